@@ -1,0 +1,94 @@
+#pragma once
+// A coordinate representation of a rotating rigid body in standard form.
+//
+// Every representation, in either equation form, writes its equations as
+//
+//   q' = N(q) v                       kinematics          (nq rows)
+//   M(q) v' = f(t, q, v) - G^T lambda dynamics            (nv rows)
+//   Phi(q) = 0                        position constraints (nc rows)
+//
+// Lagrange form: v = q', N = I, M the mass matrix in the coordinates, and the
+// constraints are held by forces: G = Phi_q, with the velocity level G v = 0
+// and the acceleration level G v' = gamma(q, v).
+// Euler form: v = omega_B, M = J, and the constraints (|q| = 1, R^T R = I)
+// are kept by the kinematic relation itself (Phi_q N = 0 on the manifold):
+// they take no force multiplier. A scheme enforces them through the
+// kinematics instead (q' = N v - Phi_q^T mu).
+//
+// A constraint scheme (schemes/) turns these terms into IDA residual rows.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rigidae/core/types.hpp"
+#include "rigidae/model/rigid_body.hpp"
+#include "rigidae/model/scene.hpp"
+
+namespace rigidae {
+
+enum class ConstraintKind {
+  None,       // no constraints (Euler angles)
+  Force,      // held by multiplier forces in the dynamics (Lagrange form)
+  Kinematic,  // kept by the kinematic relation (Euler form)
+};
+
+// The standard-form terms at one (t, q, v). Sizes: qdot nq; M nv x nv;
+// f nv; phi nc; phi_q nc x nq; G nc x nv and gamma nc (Force kind only).
+struct StandardTerms {
+  VecQ qdot;    // N(q) v
+  MatVV M;      // generalized mass
+  VecV f;       // applied and velocity-dependent generalized forces
+  VecC phi;     // position constraint residual
+  MatCQ phi_q;  // d(phi)/dq
+  MatCV G;      // velocity-level constraint Jacobian: G v = 0
+  VecC gamma;   // acceleration level: G v' = gamma
+};
+
+class Representation {
+ public:
+  virtual ~Representation() = default;
+
+  // e.g. "quaternion/lagrange".
+  virtual std::string name() const = 0;
+  virtual int nq() const = 0;
+  virtual int nv() const = 0;
+  virtual int nc() const = 0;
+  virtual ConstraintKind constraint_kind() const = 0;
+  // One short name per position constraint, e.g. "norm" or "c12".
+  virtual std::vector<std::string> constraint_names() const = 0;
+
+  // The hot path: called once per residual evaluation; must not allocate.
+  virtual void evaluate(double t, const VecQ& q, const VecV& v, StandardTerms& out) const = 0;
+
+  // Coordinates and velocities of a physical state (R_WB an exact rotation).
+  virtual void from_physical(const Mat3& R_WB, const Vec3& omega_B, VecQ& q, VecV& v) const = 0;
+  // The orientation the coordinates describe, as a unit quaternion (w >= 0 not
+  // implied). Off the constraint manifold: the nearest rotation.
+  virtual Vec4 orientation(const VecQ& q) const = 0;
+  // The matrix R(q) of the placement x = R(q) X that defines kinetic and
+  // potential energy in the Lagrange form (|q|^2 times a rotation for
+  // non-unit quaternions; the raw 3x3 for linear coordinates).
+  virtual Mat3 placement(const VecQ& q) const = 0;
+  // Body angular velocity the state describes.
+  virtual Vec3 body_angular_velocity(const VecQ& q, const VecV& v) const = 0;
+
+  // Charts. Representations with singular charts (Euler angles) report a
+  // margin in [0, 1] (1 far from the singularity, 0 at it) and can re-express
+  // a state in the chart most regular there.
+  virtual bool has_charts() const { return false; }
+  virtual double chart_margin(const VecQ& /*q*/) const { return 1.0; }
+  virtual std::string chart_name() const { return {}; }
+  // Re-expresses (q, v) in the most regular chart at this orientation and
+  // makes it current. Returns false if the current chart is already the best.
+  virtual bool change_chart(VecQ& /*q*/, VecV& /*v*/) { return false; }
+};
+
+// Builds the representation a scene asks for (coordinates x equations).
+// Throws InputError for a combination that does not exist.
+std::unique_ptr<Representation> make_representation(const Scene& scene, const RigidBodyModel& body);
+
+// Names for messages and reports.
+std::string to_string(Coordinates c);
+std::string to_string(Equations e);
+
+}  // namespace rigidae

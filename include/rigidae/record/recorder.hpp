@@ -1,0 +1,67 @@
+#pragma once
+// Streams a run to disk as it happens and keeps its extremes.
+//
+// Files in the output folder:
+//   steps.csv       one row per accepted IDA step
+//   trajectory.csv  one row per output-grid point
+//   events.csv      one row per Euler-angle chart switch
+// Rows go through a large write buffer (no history is held in memory), and
+// the files are flushed when the run ends, however it ends.
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "rigidae/record/observation.hpp"
+#include "rigidae/solver/ida_driver.hpp"
+
+namespace rigidae {
+
+struct RunExtremes {
+  long steps_recorded = 0;
+  double max_drift_position = 0.0;
+  double max_drift_velocity = 0.0;
+  double max_abs_energy_error = 0.0;
+  double max_abs_vertical_momentum_error = 0.0;
+  Eigen::VectorXd multiplier_min, multiplier_max;
+  Observation last;  // at the last recorded step (or the start)
+};
+
+class CsvStream {
+ public:
+  CsvStream(const std::filesystem::path& path, const std::string& units_comment, const std::string& header);
+  ~CsvStream();
+  CsvStream(const CsvStream&) = delete;
+  CsvStream& operator=(const CsvStream&) = delete;
+  std::FILE* file() { return f_; }
+  void flush();
+
+ private:
+  std::FILE* f_ = nullptr;
+  std::vector<char> buffer_;
+};
+
+class RunRecorder final : public StepSink {
+ public:
+  RunRecorder(const DaeSystem& dae, const Scene& scene, const std::filesystem::path& out_dir);
+
+  void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
+  void on_output(double t, const Eigen::VectorXd& y) override;
+  void on_chart_switch(const ChartSwitch& s) override;
+  void flush();
+
+  const RunExtremes& extremes() const { return extremes_; }
+  const std::vector<std::string>& multiplier_names() const { return multiplier_names_; }
+
+ private:
+  void write_observation(std::FILE* f, const Observation& o, const std::string& prefix);
+
+  const DaeSystem& dae_;
+  std::vector<std::string> multiplier_names_;
+  bool with_chart_;
+  Observer step_observer_, grid_observer_;
+  CsvStream steps_, trajectory_, events_;
+  RunExtremes extremes_;
+};
+
+}  // namespace rigidae

@@ -1,0 +1,64 @@
+#pragma once
+// A constraint scheme: how a representation's standard-form terms become the
+// residual rows F(t, y, y') = 0 that IDA integrates.
+//
+// Unknowns are laid out as y = (q | v | lambda | mu):
+//   q, v     differential (IDA id 1)
+//   lambda   force multipliers, one per constraint of a Force-kind representation
+//   mu       kinematic multipliers (q' = N v - Phi_q^T mu), GGL-style
+// Both multiplier groups are algebraic (id 0). A scheme decides which
+// groups exist, the rows, whether multipliers stay in the error test, and how
+// to make a consistent start.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rigidae/coords/representation.hpp"
+#include "rigidae/model/scene.hpp"
+
+namespace rigidae {
+
+struct UnknownLayout {
+  int nq = 0, nv = 0, n_lambda = 0, n_mu = 0;
+  int q_offset() const { return 0; }
+  int v_offset() const { return nq; }
+  int lambda_offset() const { return nq + nv; }
+  int mu_offset() const { return nq + nv + n_lambda; }
+  int size() const { return nq + nv + n_lambda + n_mu; }
+};
+
+using VecRef = Eigen::Ref<Eigen::VectorXd>;
+using ConstVecRef = Eigen::Ref<const Eigen::VectorXd>;
+
+class ConstraintScheme {
+ public:
+  virtual ~ConstraintScheme() = default;
+
+  virtual std::string name() const = 0;
+  // Which multiplier groups this scheme carries for a representation.
+  virtual UnknownLayout layout(const Representation& rep) const = 0;
+  // True when multipliers must leave IDA's error test (index 2 and above).
+  virtual bool suppress_multiplier_error_test() const = 0;
+  // A note for the report when the scheme does something unusual for this
+  // representation (e.g. nothing at all: Euler angles have no constraints).
+  virtual std::string note(const Representation& rep) const;
+
+  // The hot path: F(t, y, y') from the terms evaluated at (q, v) of y.
+  virtual void residual(const StandardTerms& terms, const UnknownLayout& lay, const ConstVecRef& y,
+                        const ConstVecRef& yp, VecRef F) const = 0;
+
+  // Given q, v in y (already on the constraint manifold), fills the
+  // multipliers of y and all of yp so that the residual vanishes to round-off:
+  // (v', lambda) from the constrained-acceleration system
+  //   [M G^T; G 0] (v', lambda) = (f, gamma),
+  // mu from d/dt Phi = Phi_q (N v - Phi_q^T mu) = 0 (zero on exact data),
+  // q' = N v - Phi_q^T mu. Schemes whose acceleration level differs override.
+  virtual void consistent_start(const StandardTerms& terms, const UnknownLayout& lay, VecRef y, VecRef yp) const;
+};
+
+// The registered schemes, by name.
+std::unique_ptr<ConstraintScheme> make_scheme(const std::string& name, const Scene& scene);
+// Every registered name, in the registry's order.
+std::vector<std::string> scheme_names();
+
+}  // namespace rigidae

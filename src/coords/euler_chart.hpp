@@ -1,0 +1,36 @@
+#pragma once
+// The current Euler-angle chart (sequence) of an Euler-angle representation,
+// and the move to the most regular chart at a given orientation.
+#include "rigidae/model/scene.hpp"
+#include "rigidae/so3/euler_sequence.hpp"
+#include "rigidae/so3/rotation.hpp"
+
+namespace rigidae::coords {
+
+class EulerChart {
+ public:
+  // The scene's sequence if it names one, else the most regular at R0.
+  explicit EulerChart(const Scene& scene)
+      : seq_(scene.formulation.euler.sequence.value_or(so3::most_regular_sequence(scene.R0_WB))) {}
+
+  const so3::EulerSequence& sequence() const { return seq_; }
+  Mat3 rotation(const Vec3& angles) const { return so3::euler_to_matrix(seq_, angles); }
+  Mat3 rate_matrix(const Vec3& angles) const { return so3::euler_rate_matrix(seq_, angles); }
+  double margin(const Vec3& angles) const { return so3::singularity_margin(seq_, angles); }
+
+  // Moves to the sequence most regular at `angles`' orientation; returns false
+  // when the current one already is. On true, `angles` holds the new angles.
+  bool move_to_most_regular(Vec3& angles) {
+    const Mat3 R = rotation(angles);
+    const so3::EulerSequence best = so3::most_regular_sequence(R);
+    if (best == seq_) return false;
+    seq_ = best;
+    angles = so3::matrix_to_euler(seq_, R);
+    return true;
+  }
+
+ private:
+  so3::EulerSequence seq_;
+};
+
+}  // namespace rigidae::coords

@@ -1,0 +1,55 @@
+// Linear coordinates (the 9 entries of R, row by row), Euler form.
+//
+//   R' = R hat(omega_B),   J omega_B' = tau(R) - omega_B x J omega_B.
+// The six orthonormality conditions are kept by the kinematics on the
+// manifold (d/dt R^T R = hat(w)^T R^T R + R^T R hat(w) = 0 when R^T R = I), so
+// they take no force multiplier; a scheme adds -Phi_q^T mu to the kinematic
+// rows instead. Unknowns: r (9), omega_B (3).
+#include "coordinate_maps.hpp"
+#include "factories.hpp"
+
+namespace rigidae::coords {
+
+namespace {
+
+class LinearEuler final : public Representation {
+ public:
+  explicit LinearEuler(const RigidBodyModel& body) : body_(body) {}
+
+  std::string name() const override { return "linear/euler"; }
+  int nq() const override { return 9; }
+  int nv() const override { return 3; }
+  int nc() const override { return 6; }
+  ConstraintKind constraint_kind() const override { return ConstraintKind::Kinematic; }
+  std::vector<std::string> constraint_names() const override { return {"c11", "c12", "c13", "c22", "c23", "c33"}; }
+
+  void evaluate(double /*t*/, const VecQ& q, const VecV& v, StandardTerms& out) const override {
+    const Mat3 R = rows_to_matrix(q);
+    const Vec3 w = v.head<3>();
+    matrix_to_rows(R * so3::hat(w), out.qdot);
+    out.M = body_.J_B;
+    out.f = body_.gravity_torque_B(R) - w.cross(body_.J_B * w);
+    orthonormality_constraints(R, out.phi, out.phi_q);
+  }
+
+  void from_physical(const Mat3& R_WB, const Vec3& omega_B, VecQ& q, VecV& v) const override {
+    matrix_to_rows(R_WB, q);
+    v = omega_B;
+  }
+  Vec4 orientation(const VecQ& q) const override {
+    return so3::matrix_to_quaternion(so3::nearest_rotation(rows_to_matrix(q)));
+  }
+  Mat3 placement(const VecQ& q) const override { return rows_to_matrix(q); }
+  Vec3 body_angular_velocity(const VecQ& /*q*/, const VecV& v) const override { return v.head<3>(); }
+
+ private:
+  RigidBodyModel body_;
+};
+
+}  // namespace
+
+std::unique_ptr<Representation> make_linear_euler(const Scene& /*scene*/, const RigidBodyModel& body) {
+  return std::make_unique<LinearEuler>(body);
+}
+
+}  // namespace rigidae::coords

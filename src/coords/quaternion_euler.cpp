@@ -1,0 +1,55 @@
+// Unit quaternions, Euler form.
+//
+//   q' = 1/2 L(q) omega_B,   J omega_B' = tau(R(q)) - omega_B x J omega_B,
+// with the constraint Phi = q^T q - 1 kept by the kinematics: Phi_q N =
+// q^T L(q) = 0 for every q, so it takes no force multiplier; a scheme adds
+// -Phi_q^T mu = -2 q mu to the kinematic rows instead.
+// Unknowns: q (4), omega_B (3).
+#include "coordinate_maps.hpp"
+#include "factories.hpp"
+
+namespace rigidae::coords {
+
+namespace {
+
+class QuaternionEuler final : public Representation {
+ public:
+  explicit QuaternionEuler(const RigidBodyModel& body) : body_(body) {}
+
+  std::string name() const override { return "quaternion/euler"; }
+  int nq() const override { return 4; }
+  int nv() const override { return 3; }
+  int nc() const override { return 1; }
+  ConstraintKind constraint_kind() const override { return ConstraintKind::Kinematic; }
+  std::vector<std::string> constraint_names() const override { return {"norm"}; }
+
+  void evaluate(double /*t*/, const VecQ& q, const VecV& v, StandardTerms& out) const override {
+    const Vec4 qq = q.head<4>();
+    const Vec3 w = v.head<3>();
+    out.qdot = 0.5 * quaternion_rate_map(qq) * w;
+    out.M = body_.J_B;
+    out.f = body_.gravity_torque_B(so3::quaternion_to_matrix(qq)) - w.cross(body_.J_B * w);
+    out.phi.resize(1);
+    out.phi(0) = qq.squaredNorm() - 1.0;
+    out.phi_q = 2.0 * qq.transpose();
+  }
+
+  void from_physical(const Mat3& R_WB, const Vec3& omega_B, VecQ& q, VecV& v) const override {
+    q = so3::matrix_to_quaternion(R_WB);
+    v = omega_B;
+  }
+  Vec4 orientation(const VecQ& q) const override { return q.head<4>().normalized(); }
+  Mat3 placement(const VecQ& q) const override { return so3::quaternion_to_matrix(q.head<4>()); }
+  Vec3 body_angular_velocity(const VecQ& /*q*/, const VecV& v) const override { return v.head<3>(); }
+
+ private:
+  RigidBodyModel body_;
+};
+
+}  // namespace
+
+std::unique_ptr<Representation> make_quaternion_euler(const Scene& /*scene*/, const RigidBodyModel& body) {
+  return std::make_unique<QuaternionEuler>(body);
+}
+
+}  // namespace rigidae::coords

@@ -1,0 +1,89 @@
+// Unit quaternions, Lagrange form (the paper's regular quadratic mass matrix).
+//
+// Placement x = R(q) X with the homogeneous quadratic R(q) (scalar first), so
+//   T = 1/2 tr(R' E R'^T),  R' = sum_k R_k q'_k,  R_k = dR/dq_k (linear in q).
+// Since R(q) = B(q, q) for a symmetric bilinear B, Lagrange's equations reduce to
+//   M(q) q'' = Q - h,  M_kl = tr(R_k E R_l^T),  h_k = 2 tr(R_k E R(q')^T),
+// with R(q') the same quadratic map applied to q' (the dM/dt q' and
+// 1/2 d/dq(q'^T M q') terms combine into h). Gravity Q_k = m g^T R_k c.
+// Constraint Phi = q^T q - 1, G = 2 q^T, G q'' = gamma = -2 q'^T q'.
+// Unknowns: q (4), v = q' (4); one force multiplier.
+#include "coordinate_maps.hpp"
+#include "factories.hpp"
+
+namespace rigidae::coords {
+
+namespace {
+
+// R_k = dR/dq_k for R(q) = (w^2 - v.v) I + 2 v v^T + 2 w hat(v).
+std::array<Mat3, 4> quaternion_placement_partials(const Vec4& q) {
+  const double w = q(0);
+  const Vec3 v = q.tail<3>();
+  std::array<Mat3, 4> Rk;
+  Rk[0] = 2.0 * (w * Mat3::Identity() + so3::hat(v));
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 e = Vec3::Unit(i);
+    Rk[i + 1] = 2.0 * (-v(i) * Mat3::Identity() + e * v.transpose() + v * e.transpose() + w * so3::hat(e));
+  }
+  return Rk;
+}
+
+class QuaternionLagrange final : public Representation {
+ public:
+  explicit QuaternionLagrange(const RigidBodyModel& body) : body_(body) {}
+
+  std::string name() const override { return "quaternion/lagrange"; }
+  int nq() const override { return 4; }
+  int nv() const override { return 4; }
+  int nc() const override { return 1; }
+  ConstraintKind constraint_kind() const override { return ConstraintKind::Force; }
+  std::vector<std::string> constraint_names() const override { return {"norm"}; }
+
+  void evaluate(double /*t*/, const VecQ& q, const VecV& v, StandardTerms& out) const override {
+    const Vec4 qq = q.head<4>();
+    const Vec4 qd = v.head<4>();
+    const std::array<Mat3, 4> Rk = quaternion_placement_partials(qq);
+    std::array<Mat3, 4> RkE;
+    for (int k = 0; k < 4; ++k) RkE[k] = Rk[k] * body_.E_B;
+
+    out.qdot = v;
+    out.M.resize(4, 4);
+    out.f.resize(4);
+    const Mat3 R_of_qd = so3::quaternion_to_matrix(qd);
+    const Vec3 mg = body_.mass * body_.gravity_W;
+    for (int k = 0; k < 4; ++k) {
+      for (int l = k; l < 4; ++l) out.M(k, l) = out.M(l, k) = RkE[k].cwiseProduct(Rk[l]).sum();
+      out.f(k) = mg.dot(Rk[k] * body_.c_B) - 2.0 * RkE[k].cwiseProduct(R_of_qd).sum();
+    }
+    out.phi.resize(1);
+    out.phi(0) = qq.squaredNorm() - 1.0;
+    out.phi_q = 2.0 * qq.transpose();
+    out.G = out.phi_q;
+    out.gamma.resize(1);
+    out.gamma(0) = -2.0 * qd.squaredNorm();
+  }
+
+  void from_physical(const Mat3& R_WB, const Vec3& omega_B, VecQ& q, VecV& v) const override {
+    const Vec4 qq = so3::matrix_to_quaternion(R_WB);
+    q = qq;
+    v = 0.5 * quaternion_rate_map(qq) * omega_B;
+  }
+  Vec4 orientation(const VecQ& q) const override { return q.head<4>().normalized(); }
+  Mat3 placement(const VecQ& q) const override { return so3::quaternion_to_matrix(q.head<4>()); }
+  Vec3 body_angular_velocity(const VecQ& q, const VecV& v) const override {
+    // q' = 1/2 L omega + (q.q'/|q|^2) q, with L^T q = 0 and L^T L = |q|^2 I.
+    const Vec4 qq = q.head<4>();
+    return 2.0 * quaternion_rate_map(qq).transpose() * v.head<4>() / qq.squaredNorm();
+  }
+
+ private:
+  RigidBodyModel body_;
+};
+
+}  // namespace
+
+std::unique_ptr<Representation> make_quaternion_lagrange(const Scene& /*scene*/, const RigidBodyModel& body) {
+  return std::make_unique<QuaternionLagrange>(body);
+}
+
+}  // namespace rigidae::coords

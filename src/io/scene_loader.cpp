@@ -1,0 +1,801 @@
+// Scene files: TOML, schema_version 1. The format is documented key by key in
+// docs/scene_format.md; this file is its only implementation.
+//
+// Every problem is reported as an InputError whose message starts with
+// "FILE:LINE:COL: error: " (the position of the offending key or value, or of
+// the enclosing table when a key is missing) and says what would be valid.
+#include "rigidae/io/scene_loader.hpp"
+#include "rigidae/schemes/scheme.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <iostream>
+#include <optional>
+#include <span>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "rigidae/core/error.hpp"
+#include "rigidae/so3/euler_sequence.hpp"
+#include "rigidae/so3/rotation.hpp"
+
+namespace rigidae::io {
+namespace {
+
+// ---------------------------------------------------------------------------
+// The schema: allowed keys of every table, and the value lists.
+// ---------------------------------------------------------------------------
+
+
+constexpr int kSchemaVersion = 1;
+
+constexpr std::array<std::string_view, 10> kRootKeys{
+    "schema_version", "name", "description", "body", "support",
+    "gravity", "initial", "time", "formulation", "solver"};
+constexpr std::array<std::string_view, 4> kBodyKeys{"mass", "inertia_principal", "inertia",
+                                                    "center_of_mass"};
+constexpr std::array<std::string_view, 1> kSupportKeys{"type"};
+constexpr std::array<std::string_view, 1> kGravityKeys{"acceleration"};
+constexpr std::array<std::string_view, 6> kInitialKeys{
+    "quaternion", "euler", "matrix", "axis_angle", "angular_velocity", "angular_velocity_frame"};
+constexpr std::array<std::string_view, 3> kInitialEulerKeys{"sequence", "convention", "angles"};
+constexpr std::array<std::string_view, 2> kAxisAngleKeys{"axis", "angle"};
+constexpr std::array<std::string_view, 3> kTimeKeys{"start", "end", "output_step"};
+constexpr std::array<std::string_view, 4> kFormulationKeys{"coordinates", "equations", "scheme",
+                                                           "euler_angles"};
+constexpr std::array<std::string_view, 4> kEulerAnglesKeys{"sequence", "convention", "switching",
+                                                           "switch_threshold"};
+constexpr std::array<std::string_view, 6> kSolverKeys{"rtol", "atol", "max_steps", "max_order",
+                                                      "initial_step", "jacobian"};
+
+constexpr std::array<std::string_view, 4> kOrientationForms{"quaternion", "euler", "matrix",
+                                                            "axis_angle"};
+
+struct SectionKeys {
+  std::string_view name;
+  std::span<const std::string_view> keys;
+};
+// Used to point a key written in the wrong table to the right one.
+const std::array<SectionKeys, 11> kAllSections{{
+    {"", kRootKeys},
+    {"body", kBodyKeys},
+    {"support", kSupportKeys},
+    {"gravity", kGravityKeys},
+    {"initial", kInitialKeys},
+    {"initial.euler", kInitialEulerKeys},
+    {"initial.axis_angle", kAxisAngleKeys},
+    {"time", kTimeKeys},
+    {"formulation", kFormulationKeys},
+    {"formulation.euler_angles", kEulerAnglesKeys},
+    {"solver", kSolverKeys},
+}};
+
+// Magnitudes beyond these are taken as input mistakes (wrong units, typos).
+constexpr double kMaxMass = 1e9;                 // kg
+constexpr double kMaxAngularVelocity = 1e6;      // rad/s
+constexpr double kMaxGravity = 1e4;              // m/s^2
+constexpr double kMaxCenterOfMass = 1e6;         // m
+constexpr double kMaxOutputIntervals = 1e8;      // (end - start) / output_step
+
+constexpr double kInertiaSymmetryTol = 1e-12;    // relative
+constexpr double kTriangleTol = 1e-12;           // relative to the trace
+constexpr double kUnitTolError = 1e-6;           // | |q| - 1 |, ||R^T R - I||_F
+constexpr double kUnitTolSilent = 1e-12;         // below: fixed without a warning
+
+// ---------------------------------------------------------------------------
+// Small helpers
+// ---------------------------------------------------------------------------
+
+char lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
+
+// Optimal-string-alignment distance (insertions, deletions, substitutions and
+// adjacent transpositions), case-insensitive.
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  const std::size_t n = a.size(), m = b.size();
+  std::vector<std::vector<std::size_t>> d(n + 1, std::vector<std::size_t>(m + 1));
+  for (std::size_t i = 0; i <= n; ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= m; ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= n; ++i) {
+    for (std::size_t j = 1; j <= m; ++j) {
+      const std::size_t cost = lower(a[i - 1]) == lower(b[j - 1]) ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && lower(a[i - 1]) == lower(b[j - 2]) && lower(a[i - 2]) == lower(b[j - 1]))
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  }
+  return d[n][m];
+}
+
+// The closest option within edit distance 2, if any.
+std::optional<std::string_view> closest(std::string_view word,
+                                        std::span<const std::string_view> options) {
+  std::optional<std::string_view> best;
+  std::size_t best_d = 3;
+  for (auto opt : options) {
+    const std::size_t d = edit_distance(word, opt);
+    if (d < best_d) {
+      best_d = d;
+      best = opt;
+    }
+  }
+  return best;
+}
+
+std::string quoted_list(std::span<const std::string_view> options) {
+  std::string s;
+  for (std::size_t i = 0; i < options.size(); ++i) {
+    if (i > 0) s += (i + 1 == options.size()) ? " or " : ", ";
+    s += fmt::format("'{}'", options[i]);
+  }
+  return s;
+}
+
+std::string type_name(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::table: return "a table";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a float";
+    case toml::node_type::boolean: return "a boolean";
+    case toml::node_type::date: return "a date";
+    case toml::node_type::time: return "a time";
+    case toml::node_type::date_time: return "a date-time";
+    default: return "nothing";
+  }
+}
+
+bool before(const toml::source_position& a, const toml::source_position& b) {
+  return a.line < b.line || (a.line == b.line && a.column < b.column);
+}
+
+std::string join_key(std::string_view table, std::string_view key) {
+  return table.empty() ? std::string(key) : fmt::format("{}.{}", table, key);
+}
+
+std::string table_label(std::string_view table) {
+  return table.empty() ? std::string("the top level") : fmt::format("[{}]", table);
+}
+
+// ---------------------------------------------------------------------------
+// The reader: carries the file name for messages.
+// ---------------------------------------------------------------------------
+
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const toml::source_region& where, const std::string& msg) const {
+    throw InputError(fmt::format("{}: error: {}", location(where), msg));
+  }
+  [[noreturn]] void fail(const toml::node& where, const std::string& msg) const { fail(where.source(), msg); }
+
+  void warn(const toml::node& where, const std::string& msg) const {
+    std::cerr << fmt::format("{}: warning: {}\n", location(where.source()), msg);
+  }
+
+  std::string location(const toml::source_region& where) const {
+    auto line = where.begin.line, col = where.begin.column;
+    if (line == 0) line = col = 1;
+    return fmt::format("{}:{}:{}", file_, line, col);
+  }
+
+  const std::string& file() const { return file_; }
+
+  // --- tables ---------------------------------------------------------------
+
+  // Rejects every key of `tbl` not in `allowed` (the first one in file order),
+  // suggesting the closest allowed key or the table the key belongs in.
+  void check_keys(const toml::table& tbl, std::string_view table,
+                  std::span<const std::string_view> allowed) const {
+    const toml::key* first = nullptr;
+    for (auto&& [k, v] : tbl) {
+      (void)v;
+      if (std::find(allowed.begin(), allowed.end(), k.str()) != allowed.end()) continue;
+      if (!first || before(k.source().begin, first->source().begin)) first = &k;
+    }
+    if (!first) return;
+    const std::string_view word = first->str();
+    std::string msg = fmt::format("unknown key '{}' in {}", word, table_label(table));
+    if (auto best = closest(word, allowed)) {
+      msg += fmt::format("; did you mean '{}'?", *best);
+    } else {
+      for (const auto& sec : kAllSections) {
+        if (sec.name == table) continue;
+        if (std::find(sec.keys.begin(), sec.keys.end(), word) != sec.keys.end()) {
+          msg += fmt::format("; '{}' belongs in {}", word, table_label(sec.name));
+          break;
+        }
+      }
+    }
+    msg += fmt::format(" (valid keys: {})", quoted_list(allowed));
+    fail(first->source(), msg);
+  }
+
+  const toml::table* optional_table(const toml::table& parent, std::string_view parent_name,
+                                    std::string_view key) const {
+    const toml::node* n = parent.get(key);
+    if (!n) return nullptr;
+    if (!n->is_table())
+      fail(*n, fmt::format("'{}' must be a table ([{}] or an inline table {{ ... }}), not {}",
+                           join_key(parent_name, key), join_key(parent_name, key), type_name(*n)));
+    return n->as_table();
+  }
+
+  const toml::table& required_table(const toml::table& parent, std::string_view parent_name,
+                                    std::string_view key) const {
+    const toml::table* t = optional_table(parent, parent_name, key);
+    if (!t)
+      fail(parent.source(), fmt::format("missing required table [{}] in {}",
+                                        join_key(parent_name, key), table_label(parent_name)));
+    return *t;
+  }
+
+  const toml::node& required(const toml::table& tbl, std::string_view table, std::string_view key,
+                             std::string_view what) const {
+    const toml::node* n = tbl.get(key);
+    if (!n)
+      fail(tbl.source(), fmt::format("missing required key '{}' in {} ({})", key,
+                                     table_label(table), what));
+    return *n;
+  }
+
+  // --- scalars --------------------------------------------------------------
+
+  // A finite number; integers are accepted.
+  double number(const toml::node& n, std::string_view name) const {
+    double x = 0.0;
+    if (auto i = n.as_integer()) {
+      x = static_cast<double>(i->get());
+    } else if (auto f = n.as_floating_point()) {
+      x = f->get();
+    } else {
+      fail(n, fmt::format("'{}' must be a number, not {}", name, type_name(n)));
+    }
+    if (!std::isfinite(x))
+      fail(n, fmt::format("'{}' must be a finite number, not {}", name, x));
+    return x;
+  }
+
+  long long integer(const toml::node& n, std::string_view name) const {
+    if (auto i = n.as_integer()) return i->get();
+    if (auto f = n.as_floating_point())
+      fail(n, fmt::format("'{}' must be an integer, not the float {} (write it without a decimal "
+                          "point or exponent)",
+                          name, f->get()));
+    fail(n, fmt::format("'{}' must be an integer, not {}", name, type_name(n)));
+  }
+
+  std::string string(const toml::node& n, std::string_view name) const {
+    if (auto s = n.as_string()) return s->get();
+    fail(n, fmt::format("'{}' must be a string (in double quotes), not {}", name, type_name(n)));
+  }
+
+  bool boolean(const toml::node& n, std::string_view name) const {
+    if (auto b = n.as_boolean()) return b->get();
+    fail(n, fmt::format("'{}' must be a boolean (true or false), not {}", name, type_name(n)));
+  }
+
+  // One of `options`; returns its index.
+  std::size_t choice(const toml::node& n, std::string_view name,
+                     std::span<const std::string_view> options) const {
+    const std::string s = string(n, name);
+    for (std::size_t i = 0; i < options.size(); ++i)
+      if (options[i] == s) return i;
+    std::string msg = fmt::format("'{}' = \"{}\" is not valid", name, s);
+    if (auto best = closest(s, options)) msg += fmt::format("; did you mean \"{}\"?", *best);
+    msg += fmt::format(" (valid: {})", quoted_list(options));
+    fail(n, msg);
+  }
+
+  // --- arrays ---------------------------------------------------------------
+
+  const toml::array& array(const toml::node& n, std::string_view name, std::size_t size,
+                           std::string_view what) const {
+    const toml::array* a = n.as_array();
+    if (!a) fail(n, fmt::format("'{}' must be an array of {} {}, not {}", name, size, what, type_name(n)));
+    if (a->size() != size)
+      fail(n, fmt::format("'{}' must have exactly {} {}, it has {}", name, size, what, a->size()));
+    return *a;
+  }
+
+  template <int N>
+  Eigen::Matrix<double, N, 1> vector(const toml::node& n, std::string_view name) const {
+    const toml::array& a = array(n, name, N, "numbers");
+    Eigen::Matrix<double, N, 1> v;
+    for (int i = 0; i < N; ++i) v[i] = number(*a.get(i), fmt::format("{}[{}]", name, i));
+    return v;
+  }
+
+  Vec3 vec3(const toml::node& n, std::string_view name) const { return vector<3>(n, name); }
+
+  // Rows of a 3x3 matrix; `elements`, if non-null, receives the element nodes.
+  Mat3 mat3(const toml::node& n, std::string_view name,
+            std::array<std::array<const toml::node*, 3>, 3>* elements = nullptr) const {
+    const toml::array& rows = array(n, name, 3, "rows (3 arrays of 3 numbers)");
+    Mat3 M;
+    for (int i = 0; i < 3; ++i) {
+      const std::string row_name = fmt::format("{}[{}]", name, i);
+      const toml::array& row = array(*rows.get(i), row_name, 3, "numbers");
+      for (int j = 0; j < 3; ++j) {
+        M(i, j) = number(*row.get(j), fmt::format("{}[{}][{}]", name, i, j));
+        if (elements) (*elements)[i][j] = row.get(j);
+      }
+    }
+    return M;
+  }
+
+ private:
+  std::string file_;
+};
+
+std::string fmt_vec(const Vec3& v) { return fmt::format("({}, {}, {})", v[0], v[1], v[2]); }
+
+// ---------------------------------------------------------------------------
+// Sections
+// ---------------------------------------------------------------------------
+
+// Where the inertia came from, for messages about it once the support is known.
+struct InertiaSource {
+  const toml::node* node = nullptr;
+  const char* name = "";
+};
+
+InertiaSource read_body(const Reader& r, const toml::table& root, Scene& scene) {
+  const toml::table& body = r.required_table(root, "", "body");
+  r.check_keys(body, "body", kBodyKeys);
+
+  const toml::node& mass_node = r.required(body, "body", "mass", "kg, > 0");
+  const double mass = r.number(mass_node, "body.mass");
+  if (!(mass > 0.0) || mass >= kMaxMass)
+    r.fail(mass_node, fmt::format("'body.mass' must be > 0 and < {:g} kg, got {}", kMaxMass, mass));
+  scene.body.mass = mass;
+
+  const toml::node* principal = body.get("inertia_principal");
+  const toml::node* full = body.get("inertia");
+  if (principal && full) {
+    const toml::node& later = before(principal->source().begin, full->source().begin) ? *full : *principal;
+    r.fail(later, "give either 'body.inertia_principal' or 'body.inertia', not both");
+  }
+  if (!principal && !full)
+    r.fail(body.source(),
+           "missing the inertia in [body]: give 'inertia_principal = [J1, J2, J3]' (kg m^2, "
+           "principal moments about the centre of mass along the body axes) or "
+           "'inertia = [[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]]'");
+
+  Vec3 moments;
+  const toml::node* inertia_node = principal ? principal : full;
+  const char* inertia_name = principal ? "body.inertia_principal" : "body.inertia";
+  if (principal) {
+    moments = r.vec3(*principal, inertia_name);
+    const toml::array& a = *principal->as_array();
+    for (int i = 0; i < 3; ++i)
+      if (!(moments[i] > 0.0))
+        r.fail(*a.get(i), fmt::format("'{}[{}]' must be > 0 (a principal moment of inertia), got {}",
+                                      inertia_name, i, moments[i]));
+    scene.body.inertia_com = moments.asDiagonal();
+  } else {
+    std::array<std::array<const toml::node*, 3>, 3> el{};
+    Mat3 I = r.mat3(*full, inertia_name, &el);
+    const double scale = I.cwiseAbs().maxCoeff();
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < i; ++j) {
+        const double asym = std::abs(I(i, j) - I(j, i));
+        if (asym > kInertiaSymmetryTol * scale)
+          r.fail(*el[i][j],
+                 fmt::format("'body.inertia' must be symmetric: element [{}][{}] = {} differs from "
+                             "[{}][{}] = {} (relative difference {:.3g} > {:g})",
+                             i, j, I(i, j), j, i, I(j, i), scale > 0 ? asym / scale : 0.0,
+                             kInertiaSymmetryTol));
+      }
+    }
+    I = 0.5 * (I + I.transpose()).eval();
+    Eigen::SelfAdjointEigenSolver<Mat3> eig(I);
+    moments = eig.eigenvalues();
+    if (!(moments.minCoeff() > 0.0))
+      r.fail(*full, fmt::format("'body.inertia' must be positive definite; its principal moments "
+                                "(eigenvalues) are {}",
+                                fmt_vec(moments)));
+    scene.body.inertia_com = I;
+  }
+  if (const toml::node* c = body.get("center_of_mass")) {
+    const Vec3 com = r.vec3(*c, "body.center_of_mass");
+    if (com.norm() > kMaxCenterOfMass)
+      r.fail(*c, fmt::format("'body.center_of_mass' is {} m from the body origin; it must be at "
+                             "most {:g} m (check the units: metres)",
+                             com.norm(), kMaxCenterOfMass));
+    scene.body.com_B = com;
+  }
+  return {inertia_node, inertia_name};
+}
+
+std::string fmt_moments(const Vec3& J) { return fmt::format("J1 = {}, J2 = {}, J3 = {}", J[0], J[1], J[2]); }
+
+// The triangle inequality of the principal moments. J_i <= J_j + J_k holds for
+// every mass distribution; equality means all the mass lies in one plane
+// through the reference point, and then the second moment of mass
+// (tr(J)/2 I - J) is singular -- the rotation is not determined by the motion
+// of the material points, and the linear-coordinate formulation has a
+// singular mass matrix. The reference point is the one the body rotates
+// about: the fixed point of a top, the centre of mass of a free body.
+void check_triangle_inequality(const Reader& r, const InertiaSource& src, const Scene& scene) {
+  const Mat3& Ic = scene.body.inertia_com;
+  const Vec3 Jc = Eigen::SelfAdjointEigenSolver<Mat3>(Ic).eigenvalues();
+  const double trace_c = Jc.sum();
+  for (int i = 0; i < 3; ++i) {
+    const double others = trace_c - Jc[i];
+    if (Jc[i] > others + kTriangleTol * trace_c)
+      r.fail(*src.node,
+             fmt::format("'{}': the principal moments about the centre of mass ({}) violate the "
+                         "triangle inequality: J{} = {} exceeds the sum of the other two ({}); no "
+                         "mass distribution has these moments (valid: J1 < J2 + J3, J2 < J1 + J3, "
+                         "J3 < J1 + J2)",
+                         src.name, fmt_moments(Jc), i + 1, Jc[i], others));
+  }
+
+  const bool fixed = scene.support == Support::FixedPoint;
+  const Vec3& c = scene.body.com_B;
+  const Mat3 I = fixed ? Mat3(Ic + scene.body.mass * (c.squaredNorm() * Mat3::Identity() - c * c.transpose()))
+                       : Ic;
+  const Vec3 J = Eigen::SelfAdjointEigenSolver<Mat3>(I).eigenvalues();
+  const double trace = J.sum();
+  const char* about = fixed ? "about the fixed point" : "about the centre of mass";
+  for (int i = 0; i < 3; ++i) {
+    const double others = trace - J[i];
+    if (J[i] >= others - kTriangleTol * trace)
+      r.fail(*src.node,
+             fmt::format("'{}': the principal moments {} ({}) break the strict triangle "
+                         "inequality: J{} = {} is not less than the sum of the other two ({}), so "
+                         "all the mass lies in one plane through {} -- a body with no thickness "
+                         "is not a rigid body here (valid: J1 < J2 + J3, J2 < J1 + J3 and "
+                         "J3 < J1 + J2, with a relative margin of {:g}){}",
+                         src.name, about, fmt_moments(J), i + 1, J[i], others,
+                         fixed ? "the fixed point" : "the centre of mass", kTriangleTol,
+                         fixed && c.squaredNorm() > 0.0
+                             ? fmt::format("; moments about the fixed point are J_com + m(|c|^2 I "
+                                           "- c c^T) with the centre of mass c = {}",
+                                           fmt_vec(c))
+                             : std::string()));
+  }
+}
+
+void read_support(const Reader& r, const toml::table& root, Scene& scene) {
+  const toml::table* sup = r.optional_table(root, "", "support");
+  if (!sup) return;
+  r.check_keys(*sup, "support", kSupportKeys);
+  if (const toml::node* t = sup->get("type")) {
+    constexpr std::array<std::string_view, 2> opts{"fixed_point", "free"};
+    scene.support = r.choice(*t, "support.type", opts) == 0 ? Support::FixedPoint : Support::Free;
+  }
+}
+
+void read_gravity(const Reader& r, const toml::table& root, Scene& scene) {
+  const toml::table* g = r.optional_table(root, "", "gravity");
+  if (!g) return;
+  r.check_keys(*g, "gravity", kGravityKeys);
+  if (const toml::node* a = g->get("acceleration")) {
+    const Vec3 acc = r.vec3(*a, "gravity.acceleration");
+    if (acc.norm() > kMaxGravity)
+      r.fail(*a, fmt::format("|gravity.acceleration| = {} m/s^2 is too large; it must be at most "
+                             "{:g} m/s^2",
+                             acc.norm(), kMaxGravity));
+    scene.gravity_W = acc;
+  }
+}
+
+bool read_convention(const Reader& r, const toml::table& tbl, std::string_view table) {
+  const toml::node* c = tbl.get("convention");
+  if (!c) return false;
+  constexpr std::array<std::string_view, 2> opts{"intrinsic", "extrinsic"};
+  return r.choice(*c, join_key(table, "convention"), opts) == 1;
+}
+
+so3::EulerSequence read_sequence(const Reader& r, const toml::node& n, std::string_view name,
+                                 bool extrinsic, Vec3* angles) {
+  const std::string letters = r.string(n, name);
+  try {
+    return so3::parse_euler_sequence(letters, extrinsic, angles);
+  } catch (const std::invalid_argument& e) {
+    r.fail(n, fmt::format("'{}' = \"{}\": {}", name, letters, e.what()));
+  }
+}
+
+Mat3 read_orientation(const Reader& r, const toml::table& init) {
+  const toml::node* form = nullptr;
+  std::string_view form_name;
+  for (auto name : kOrientationForms) {
+    const toml::node* n = init.get(name);
+    if (!n) continue;
+    if (form) {
+      const bool n_later = before(form->source().begin, n->source().begin);
+      const toml::node& later = n_later ? *n : *form;
+      r.fail(later, fmt::format("[initial] has several orientations ('{}' and '{}'); give exactly "
+                                "one of {}",
+                                n_later ? form_name : name, n_later ? name : form_name,
+                                quoted_list(kOrientationForms)));
+    }
+    form = n;
+    form_name = name;
+  }
+  if (!form)
+    r.fail(init.source(), fmt::format("[initial] needs an orientation: give exactly one of {} "
+                                      "(e.g. quaternion = [1.0, 0.0, 0.0, 0.0] for the identity)",
+                                      quoted_list(kOrientationForms)));
+
+  if (form_name == "quaternion") {
+    const Vec4 q = r.vector<4>(*form, "initial.quaternion");
+    const double n = q.norm();
+    if (n == 0.0)
+      r.fail(*form, "'initial.quaternion' has zero norm; give a unit quaternion (w, x, y, z), "
+                    "scalar first, e.g. [1.0, 0.0, 0.0, 0.0] for the identity");
+    const double dev = std::abs(n - 1.0);
+    if (dev > kUnitTolError)
+      r.fail(*form, fmt::format("'initial.quaternion' has norm {} (| |q| - 1 | = {:.3g} > {:g}); "
+                                "normalise it (a unit quaternion is expected, scalar first)",
+                                n, dev, kUnitTolError));
+    if (dev > kUnitTolSilent)
+      r.warn(*form, fmt::format("'initial.quaternion' has norm {} (| |q| - 1 | = {:.3g}); "
+                                "normalised",
+                                n, dev));
+    return so3::quaternion_to_matrix(q / n);
+  }
+
+  if (form_name == "matrix") {
+    const Mat3 M = r.mat3(*form, "initial.matrix");
+    const double dev = (M.transpose() * M - Mat3::Identity()).norm();
+    if (dev > kUnitTolError)
+      r.fail(*form, fmt::format("'initial.matrix' is not orthogonal: ||R^T R - I||_F = {:.3g} > "
+                                "{:g}; give the rotation matrix R_WB (rows, body to world) "
+                                "to at least 7 significant digits",
+                                dev, kUnitTolError));
+    if (M.determinant() < 0.0)
+      r.fail(*form, "'initial.matrix' has determinant -1: it is a reflection, not a rotation "
+                    "(flip the sign of one row or column)");
+    if (dev > kUnitTolSilent)
+      r.warn(*form, fmt::format("'initial.matrix' deviates from a rotation by ||R^T R - I||_F = "
+                                "{:.3g}; replaced by the nearest rotation",
+                                dev));
+    return so3::nearest_rotation(M);
+  }
+
+  if (form_name == "euler") {
+    if (!form->is_table())
+      r.fail(*form, fmt::format("'initial.euler' must be a table such as {{ sequence = \"zxz\", "
+                                "convention = \"intrinsic\", angles = [0.1, 0.2, 0.3] }}, not {}",
+                                type_name(*form)));
+    const toml::table& e = *form->as_table();
+    r.check_keys(e, "initial.euler", kInitialEulerKeys);
+    const toml::node& seq_node =
+        r.required(e, "initial.euler", "sequence", "three axis letters such as \"zxz\" or \"zyx\"");
+    const toml::node& angles_node =
+        r.required(e, "initial.euler", "angles", "[a, b, c] in rad, in the order of the sequence");
+    const bool extrinsic = read_convention(r, e, "initial.euler");
+    Vec3 angles = r.vec3(angles_node, "initial.euler.angles");
+    const so3::EulerSequence seq = read_sequence(r, seq_node, "initial.euler.sequence", extrinsic, &angles);
+    return so3::euler_to_matrix(seq, angles);
+  }
+
+  // axis_angle
+  if (!form->is_table())
+    r.fail(*form, fmt::format("'initial.axis_angle' must be a table such as {{ axis = [0.0, 0.0, "
+                              "1.0], angle = 0.5 }}, not {}",
+                              type_name(*form)));
+  const toml::table& aa = *form->as_table();
+  r.check_keys(aa, "initial.axis_angle", kAxisAngleKeys);
+  const toml::node& axis_node =
+      r.required(aa, "initial.axis_angle", "axis", "[x, y, z], any non-zero length");
+  const toml::node& angle_node = r.required(aa, "initial.axis_angle", "angle", "rad");
+  const Vec3 axis = r.vec3(axis_node, "initial.axis_angle.axis");
+  const double angle = r.number(angle_node, "initial.axis_angle.angle");
+  const double len = axis.norm();
+  if (!(len > 0.0) || !std::isfinite(len))
+    r.fail(axis_node, "'initial.axis_angle.axis' must be a non-zero vector (it is normalised by "
+                      "the loader)");
+  return so3::axis_angle_to_matrix(axis / len, angle);
+}
+
+void read_initial(const Reader& r, const toml::table& root, Scene& scene) {
+  const toml::table& init = r.required_table(root, "", "initial");
+  r.check_keys(init, "initial", kInitialKeys);
+  scene.R0_WB = read_orientation(r, init);
+
+  const toml::node& w_node =
+      r.required(init, "initial", "angular_velocity", "[wx, wy, wz] in rad/s");
+  const Vec3 w = r.vec3(w_node, "initial.angular_velocity");
+  if (w.norm() > kMaxAngularVelocity)
+    r.fail(w_node, fmt::format("|initial.angular_velocity| = {} rad/s is too large; it must be at "
+                               "most {:g} rad/s (check the units: rad/s, not rpm or deg/s)",
+                               w.norm(), kMaxAngularVelocity));
+  bool space = false;
+  if (const toml::node* f = init.get("angular_velocity_frame")) {
+    constexpr std::array<std::string_view, 2> opts{"body", "space"};
+    space = r.choice(*f, "initial.angular_velocity_frame", opts) == 1;
+  }
+  scene.omega0_B = space ? Vec3(scene.R0_WB.transpose() * w) : w;
+}
+
+void read_time(const Reader& r, const toml::table& root, Scene& scene) {
+  const toml::table& t = r.required_table(root, "", "time");
+  r.check_keys(t, "time", kTimeKeys);
+  double start = 0.0;
+  if (const toml::node* s = t.get("start")) start = r.number(*s, "time.start");
+  const toml::node& end_node = r.required(t, "time", "end", "s, > start");
+  const double end = r.number(end_node, "time.end");
+  if (!(end > start))
+    r.fail(end_node, fmt::format("'time.end' = {} must be greater than 'time.start' = {}", end, start));
+  const double span = end - start;
+  double step = span / 100.0;
+  if (const toml::node* o = t.get("output_step")) {
+    step = r.number(*o, "time.output_step");
+    if (!(step > 0.0) || step > span)
+      r.fail(*o, fmt::format("'time.output_step' = {} must be > 0 and <= end - start = {} s", step, span));
+    if (span / step > kMaxOutputIntervals)
+      r.fail(*o, fmt::format("'time.output_step' = {} gives {:.3g} output intervals over {} s; at "
+                             "most {:g} are allowed",
+                             step, span / step, span, kMaxOutputIntervals));
+  }
+  scene.time.start = start;
+  scene.time.end = end;
+  scene.time.output_step = step;
+}
+
+void read_formulation(const Reader& r, const toml::table& root, Scene& scene) {
+  const toml::table* f = r.optional_table(root, "", "formulation");
+  if (!f) return;
+  r.check_keys(*f, "formulation", kFormulationKeys);
+  Formulation& form = scene.formulation;
+  if (const toml::node* c = f->get("coordinates")) {
+    constexpr std::array<std::string_view, 3> opts{"euler", "quaternion", "linear"};
+    constexpr std::array<Coordinates, 3> vals{Coordinates::EulerAngles, Coordinates::Quaternion,
+                                              Coordinates::Linear};
+    form.coordinates = vals[r.choice(*c, "formulation.coordinates", opts)];
+  }
+  if (const toml::node* e = f->get("equations")) {
+    constexpr std::array<std::string_view, 2> opts{"lagrange", "euler"};
+    form.equations = r.choice(*e, "formulation.equations", opts) == 0 ? Equations::Lagrange
+                                                                      : Equations::Euler;
+  }
+  if (const toml::node* s = f->get("scheme")) {
+    // The scheme registry is the one list of valid names.
+    const std::vector<std::string> names = scheme_names();
+    const std::vector<std::string_view> views(names.begin(), names.end());
+    form.scheme = names[r.choice(*s, "formulation.scheme", views)];
+  }
+
+  const toml::table* ea = r.optional_table(*f, "formulation", "euler_angles");
+  if (!ea) return;
+  r.check_keys(*ea, "formulation.euler_angles", kEulerAnglesKeys);
+  const bool extrinsic = read_convention(r, *ea, "formulation.euler_angles");
+  if (const toml::node* s = ea->get("sequence")) {
+    const std::string letters = r.string(*s, "formulation.euler_angles.sequence");
+    if (letters == "auto")
+      form.euler.sequence.reset();
+    else
+      form.euler.sequence = read_sequence(r, *s, "formulation.euler_angles.sequence", extrinsic, nullptr);
+  }
+  if (const toml::node* s = ea->get("switching"))
+    form.euler.switching = r.boolean(*s, "formulation.euler_angles.switching");
+  if (const toml::node* s = ea->get("switch_threshold")) {
+    const double th = r.number(*s, "formulation.euler_angles.switch_threshold");
+    if (!(th > 0.0 && th < 1.0))
+      r.fail(*s, fmt::format("'formulation.euler_angles.switch_threshold' = {} must lie in (0, 1) "
+                             "(a margin |sin b| or |cos b|)",
+                             th));
+    form.euler.switch_threshold = th;
+  }
+}
+
+void read_solver(const Reader& r, const toml::table& root, Scene& scene) {
+  const toml::table* s = r.optional_table(root, "", "solver");
+  if (!s) return;
+  r.check_keys(*s, "solver", kSolverKeys);
+  SolverSettings& sol = scene.solver;
+  if (const toml::node* n = s->get("rtol")) {
+    const double v = r.number(*n, "solver.rtol");
+    if (!(v > 0.0 && v < 1.0)) r.fail(*n, fmt::format("'solver.rtol' = {} must lie in (0, 1), e.g. 1e-8", v));
+    sol.rtol = v;
+  }
+  if (const toml::node* n = s->get("atol")) {
+    const double v = r.number(*n, "solver.atol");
+    if (!(v > 0.0 && v < 1.0)) r.fail(*n, fmt::format("'solver.atol' = {} must lie in (0, 1), e.g. 1e-8", v));
+    sol.atol = v;
+  }
+  if (const toml::node* n = s->get("max_steps")) {
+    const long long v = r.integer(*n, "solver.max_steps");
+    if (v < 1) r.fail(*n, fmt::format("'solver.max_steps' = {} must be an integer >= 1", v));
+    sol.max_steps = static_cast<long>(v);
+  }
+  if (const toml::node* n = s->get("max_order")) {
+    const long long v = r.integer(*n, "solver.max_order");
+    if (v < 1 || v > 5) r.fail(*n, fmt::format("'solver.max_order' = {} must be an integer from 1 to 5", v));
+    sol.max_order = static_cast<int>(v);
+  }
+  if (const toml::node* n = s->get("initial_step")) {
+    const double v = r.number(*n, "solver.initial_step");
+    if (!(v >= 0.0))
+      r.fail(*n, fmt::format("'solver.initial_step' = {} must be >= 0 (0: estimated at the start)", v));
+    sol.initial_step = v;
+  }
+  if (const toml::node* n = s->get("jacobian")) {
+    static constexpr std::array<std::string_view, 2> kJacobians{"central", "ida_dq"};
+    sol.jacobian = std::string(kJacobians[r.choice(*n, "solver.jacobian", kJacobians)]);
+  }
+}
+
+Scene read_scene(const Reader& r, const toml::table& root) {
+  Scene scene;
+  scene.source = r.file();
+
+  // The version first: a file of another version should fail on that, not on
+  // the keys it renamed.
+  // (Unless it is missing: then a misspelt key is the likelier cause.)
+  if (!root.get("schema_version")) r.check_keys(root, "", kRootKeys);
+  const toml::node& ver = r.required(root, "", "schema_version", "schema_version = 1");
+  const long long version = r.integer(ver, "schema_version");
+  if (version != kSchemaVersion)
+    r.fail(ver, fmt::format("unsupported schema_version {}; this version of rigidae reads "
+                            "schema_version = {}",
+                            version, kSchemaVersion));
+  r.check_keys(root, "", kRootKeys);
+
+  scene.name = std::filesystem::path(r.file()).stem().string();
+  if (const toml::node* n = root.get("name")) {
+    scene.name = r.string(*n, "name");
+    if (scene.name.empty()) r.fail(*n, "'name' must not be empty (leave it out to use the file name)");
+  }
+  if (const toml::node* n = root.get("description")) scene.description = r.string(*n, "description");
+
+  const InertiaSource inertia = read_body(r, root, scene);
+  read_support(r, root, scene);
+  check_triangle_inequality(r, inertia, scene);
+  read_gravity(r, root, scene);
+  read_initial(r, root, scene);
+  read_time(r, root, scene);
+  read_formulation(r, root, scene);
+  read_solver(r, root, scene);
+  return scene;
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& text, const std::string& source_name) {
+  const Reader reader(source_name);
+  toml::table root;
+  try {
+    root = toml::parse(std::string_view(text), std::string_view(source_name));
+  } catch (const toml::parse_error& e) {
+    reader.fail(e.source(), fmt::format("invalid TOML: {}", e.description()));
+  }
+  return read_scene(reader, root);
+}
+
+Scene load_scene(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(fmt::format("{}: error: cannot read scene file '{}': it is a directory", path, path));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    const int err = errno;
+    throw InputError(fmt::format("{}: error: cannot open scene file '{}': {}", path, path,
+                                 err ? std::strerror(err) : "unreadable"));
+  }
+  std::ostringstream buf;
+  buf << in.rdbuf();
+  if (in.bad())
+    throw InputError(fmt::format("{}: error: cannot read scene file '{}'", path, path));
+  return parse_scene(buf.str(), path);
+}
+
+}  // namespace rigidae::io

@@ -1,0 +1,106 @@
+#include "rigidae/record/recorder.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+#include "rigidae/core/error.hpp"
+
+namespace rigidae {
+
+namespace {
+
+constexpr std::size_t kWriteBuffer = 1 << 20;
+
+std::string observation_columns(const std::vector<std::string>& multipliers) {
+  std::string s = "qw,qx,qy,qz,omega_x,omega_y,omega_z,drift_position,drift_velocity";
+  for (const auto& m : multipliers) s += "," + m;
+  s += ",energy,energy_rel_error,vertical_momentum,vertical_momentum_rel_error";
+  return s;
+}
+
+const char* kUnits =
+    "# units: t s; h s; qw..qz unit quaternion of R_WB (body to space, scalar first); omega_* rad/s body frame; "
+    "drift_position |Phi(q)| 1; drift_velocity |dPhi/dt| 1/s; lambda_* J (generalized constraint force); "
+    "mu_* 1/s (kinematic multiplier); energy J; energy_rel_error (H-H0)/|H0|; vertical_momentum kg m^2/s about "
+    "the reference point; vertical_momentum_rel_error (Lz-Lz0)/|L0|";
+
+}  // namespace
+
+CsvStream::CsvStream(const std::filesystem::path& path, const std::string& units_comment, const std::string& header)
+    : buffer_(kWriteBuffer) {
+  f_ = std::fopen(path.c_str(), "w");
+  if (!f_) throw InputError(fmt::format("{}: cannot open for writing: {}", path.string(), std::strerror(errno)));
+  std::setvbuf(f_, buffer_.data(), _IOFBF, buffer_.size());
+  fmt::print(f_, "{}\n{}\n", units_comment, header);
+}
+
+CsvStream::~CsvStream() {
+  if (f_) std::fclose(f_);
+}
+
+void CsvStream::flush() { std::fflush(f_); }
+
+RunRecorder::RunRecorder(const DaeSystem& dae, const Scene& scene, const std::filesystem::path& out_dir)
+    : dae_(dae),
+      multiplier_names_(dae.multiplier_names()),
+      with_chart_(dae.representation().has_charts()),
+      step_observer_(dae, scene),
+      grid_observer_(dae, scene),
+      steps_(out_dir / "steps.csv", kUnits,
+             "t,h,order," + observation_columns(multiplier_names_) + (with_chart_ ? ",chart" : "")),
+      trajectory_(out_dir / "trajectory.csv", kUnits,
+                  "t," + observation_columns(multiplier_names_) + (with_chart_ ? ",chart" : "")),
+      events_(out_dir / "events.csv", "# units: t s; margin |det B| of the chart left, 1",
+              "t,event,from,to,margin") {
+  const int nm = static_cast<int>(multiplier_names_.size());
+  extremes_.multiplier_min = Eigen::VectorXd::Constant(nm, std::numeric_limits<double>::infinity());
+  extremes_.multiplier_max = Eigen::VectorXd::Constant(nm, -std::numeric_limits<double>::infinity());
+}
+
+void RunRecorder::write_observation(std::FILE* f, const Observation& o, const std::string& prefix) {
+  fmt::memory_buffer b;
+  fmt::format_to(std::back_inserter(b), "{}{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.6e},{:.6e}",
+                 prefix, o.q_WB(0), o.q_WB(1), o.q_WB(2), o.q_WB(3), o.omega_B(0), o.omega_B(1), o.omega_B(2),
+                 o.drift.position, o.drift.velocity);
+  for (int i = 0; i < o.multipliers.size(); ++i) fmt::format_to(std::back_inserter(b), ",{:.10e}", o.multipliers(i));
+  fmt::format_to(std::back_inserter(b), ",{:.17g},{:.6e},{:.17g},{:.6e}", o.energy, o.energy_error,
+                 o.vertical_momentum, o.vertical_momentum_error);
+  if (with_chart_) fmt::format_to(std::back_inserter(b), ",{}", dae_.representation().chart_name());
+  b.push_back('\n');
+  std::fwrite(b.data(), 1, b.size(), f);
+}
+
+void RunRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& y) {
+  const Observation o = step_observer_.observe(t, y);
+  write_observation(steps_.file(), o, fmt::format("{:.17g},{:.6e},{},", t, h, order));
+  RunExtremes& e = extremes_;
+  ++e.steps_recorded;
+  e.max_drift_position = std::max(e.max_drift_position, o.drift.position);
+  e.max_drift_velocity = std::max(e.max_drift_velocity, o.drift.velocity);
+  e.max_abs_energy_error = std::max(e.max_abs_energy_error, std::abs(o.energy_error));
+  e.max_abs_vertical_momentum_error = std::max(e.max_abs_vertical_momentum_error, std::abs(o.vertical_momentum_error));
+  e.multiplier_min = e.multiplier_min.cwiseMin(o.multipliers);
+  e.multiplier_max = e.multiplier_max.cwiseMax(o.multipliers);
+  e.last = o;
+}
+
+void RunRecorder::on_output(double t, const Eigen::VectorXd& y) {
+  const Observation o = grid_observer_.observe(t, y);
+  write_observation(trajectory_.file(), o, fmt::format("{:.17g},", t));
+  if (extremes_.steps_recorded == 0) extremes_.last = o;
+}
+
+void RunRecorder::on_chart_switch(const ChartSwitch& s) {
+  fmt::print(events_.file(), "{:.17g},chart_switch,{},{},{:.6e}\n", s.t, s.from, s.to, s.margin);
+}
+
+void RunRecorder::flush() {
+  steps_.flush();
+  trajectory_.flush();
+  events_.flush();
+}
+
+}  // namespace rigidae

@@ -1,0 +1,12 @@
+#pragma once
+// One factory per scheme file; the table in registry.cpp lists them.
+#include <memory>
+
+#include "rigidae/schemes/scheme.hpp"
+
+namespace rigidae::schemes {
+
+std::unique_ptr<ConstraintScheme> make_ggl(const Scene& scene);
+std::unique_ptr<ConstraintScheme> make_index1(const Scene& scene);
+
+}  // namespace rigidae::schemes

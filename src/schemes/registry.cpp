@@ -1,0 +1,38 @@
+// The table of constraint schemes, by name.
+#include <array>
+#include <string_view>
+
+#include "factories.hpp"
+#include "rigidae/core/error.hpp"
+
+namespace rigidae {
+
+namespace {
+
+struct SchemeEntry {
+  std::string_view name;
+  std::unique_ptr<ConstraintScheme> (*make)(const Scene&);
+};
+
+constexpr std::array<SchemeEntry, 2> kSchemes{{
+    {"ggl", schemes::make_ggl},
+    {"index1", schemes::make_index1},
+}};
+
+}  // namespace
+
+std::vector<std::string> scheme_names() {
+  std::vector<std::string> names;
+  for (const auto& e : kSchemes) names.emplace_back(e.name);
+  return names;
+}
+
+std::unique_ptr<ConstraintScheme> make_scheme(const std::string& name, const Scene& scene) {
+  for (const auto& e : kSchemes)
+    if (e.name == name) return e.make(scene);
+  std::string valid;
+  for (const auto& e : kSchemes) valid += (valid.empty() ? "" : ", ") + std::string(e.name);
+  throw InputError("unknown scheme '" + name + "'; valid schemes: " + valid);
+}
+
+}  // namespace rigidae

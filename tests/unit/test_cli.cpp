@@ -1,0 +1,108 @@
+// The command line as a user meets it: exit codes, messages, output files.
+#include <doctest/doctest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+struct Result {
+  int exit_code;
+  std::string output;  // stdout and stderr
+};
+
+Result run_cli(const std::string& args) {
+  const std::string cmd = std::string(RIGIDAE_CLI) + " " + args + " 2>&1";
+  Result r{-1, {}};
+  FILE* p = popen(cmd.c_str(), "r");
+  REQUIRE(p != nullptr);
+  char buf[4096];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+  const int status = pclose(p);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::filesystem::path temp_scene(const std::string& name, const std::string& text) {
+  const auto dir = std::filesystem::temp_directory_path() / "rigidae_cli_tests";
+  std::filesystem::create_directories(dir);
+  const auto path = dir / name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+const std::string kScene = std::string(RIGIDAE_SOURCE_DIR) + "/problems/heavy_top.toml";
+
+}  // namespace
+
+TEST_CASE("cli: solve writes the three outputs and exits 0") {
+  const auto out = std::filesystem::temp_directory_path() / "rigidae_cli_tests" / "ok";
+  std::filesystem::remove_all(out);
+  const Result r = run_cli("solve " + kScene + " --t-end 0.2 --out " + out.string());
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("status        success") != std::string::npos);
+  for (const char* f : {"steps.csv", "trajectory.csv", "summary.json", "events.csv"})
+    CHECK(std::filesystem::exists(out / f));
+}
+
+TEST_CASE("cli: unknown option values are errors that list the valid ones") {
+  Result r = run_cli("solve " + kScene + " --coordinates rodrigues");
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("euler, quaternion, linear") != std::string::npos);
+  r = run_cli("solve " + kScene + " --scheme magic");
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("ggl") != std::string::npos);
+  r = run_cli("solve " + kScene + " --rtol 2");
+  CHECK(r.exit_code == 2);
+  r = run_cli("solve " + kScene + " --bogus 1");
+  CHECK(r.exit_code == 2);
+  r = run_cli("frobnicate");
+  CHECK(r.exit_code == 2);
+}
+
+TEST_CASE("cli: --help explains the options") {
+  const Result r = run_cli("--help");
+  CHECK(r.exit_code == 0);
+  for (const char* opt : {"--coordinates", "--equations", "--scheme", "--rtol", "--atol", "--t-end", "--out"})
+    CHECK(r.output.find(opt) != std::string::npos);
+}
+
+TEST_CASE("cli: a scene with a syntax error names its line and exits 2") {
+  const auto p = temp_scene("syntax.toml", "schema_version = 1\n[body\nmass = 1\n");
+  const Result r = run_cli("solve " + p.string());
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find(p.string() + ":2:") != std::string::npos);
+}
+
+TEST_CASE("cli: a scene with an unknown key names its line and exits 2") {
+  std::ifstream in(kScene);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text.replace(text.find("mass = 15.0"), 11, "mas = 15.0");
+  const auto p = temp_scene("unknown_key.toml", text);
+  const Result r = run_cli("solve " + p.string());
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("mas") != std::string::npos);
+  CHECK(r.output.find("mass") != std::string::npos);
+  CHECK(r.output.find(p.string() + ":") != std::string::npos);
+}
+
+TEST_CASE("cli: a non-physical body is rejected with its line") {
+  std::ifstream in(kScene);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text.replace(text.find("mass = 15.0"), 11, "mass = -1.0");
+  const auto p = temp_scene("negative_mass.toml", text);
+  const Result r = run_cli("solve " + p.string());
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find(p.string() + ":") != std::string::npos);
+}
+
+TEST_CASE("cli: a solver failure exits 1 and says why") {
+  const auto out = std::filesystem::temp_directory_path() / "rigidae_cli_tests" / "fail";
+  const Result r = run_cli("solve " + kScene + " --max-steps 20 --out " + out.string());
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("too much work") != std::string::npos);
+  CHECK(std::filesystem::exists(out / "summary.json"));
+}

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Installs rigidae's dependencies from Debian 12's packages (only those
+# missing) and builds everything (the rigidae CLI and the test suite) in ./build.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(g++ cmake ninja-build pkg-config
+          libsundials-dev libeigen3-dev libsuitesparse-dev libfmt-dev doctest-dev
+          libtomlplusplus-dev nlohmann-json3-dev
+          python3-numpy python3-matplotlib)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo=sudo
+  echo "rigidae: installing ${missing[*]}"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j"$(nproc)"
