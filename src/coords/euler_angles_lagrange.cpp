@@ -13,16 +13,11 @@ namespace rigidae::coords {
 
 namespace {
 
-class EulerAnglesLagrange final : public Representation {
+class EulerAnglesLagrange final : public EulerAnglesRepresentation {
  public:
-  EulerAnglesLagrange(const Scene& scene, const RigidBodyModel& body) : body_(body), chart_(scene) {}
+  using EulerAnglesRepresentation::EulerAnglesRepresentation;
 
   std::string name() const override { return "euler/lagrange"; }
-  int nq() const override { return 3; }
-  int nv() const override { return 3; }
-  int nc() const override { return 0; }
-  ConstraintKind constraint_kind() const override { return ConstraintKind::None; }
-  std::vector<std::string> constraint_names() const override { return {}; }
 
   void evaluate(double /*t*/, const VecQ& q, const VecV& v, StandardTerms& out) const override {
     const Vec3 a = q.head<3>();
@@ -33,10 +28,7 @@ class EulerAnglesLagrange final : public Representation {
     out.qdot = v;
     out.M = B.transpose() * body_.J_B * B;
     out.f = B.transpose() * (body_.gravity_torque_B(chart_.rotation(a)) - w.cross(body_.J_B * w) - body_.J_B * bias);
-    out.phi.resize(0);
-    out.phi_q.resize(0, 3);
-    out.G.resize(0, 3);
-    out.gamma.resize(0);
+    no_constraints(out);
   }
 
   void from_physical(const Mat3& R_WB, const Vec3& omega_B, VecQ& q, VecV& v) const override {
@@ -44,15 +36,10 @@ class EulerAnglesLagrange final : public Representation {
     q = a;
     v = chart_.rate_matrix(a).partialPivLu().solve(omega_B);
   }
-  Vec4 orientation(const VecQ& q) const override { return so3::matrix_to_quaternion(placement(q)); }
-  Mat3 placement(const VecQ& q) const override { return chart_.rotation(q.head<3>()); }
   Vec3 body_angular_velocity(const VecQ& q, const VecV& v) const override {
     return chart_.rate_matrix(q.head<3>()) * v.head<3>();
   }
 
-  bool has_charts() const override { return true; }
-  double chart_margin(const VecQ& q) const override { return chart_.margin(q.head<3>()); }
-  std::string chart_name() const override { return chart_.sequence().name(); }
   bool change_chart(VecQ& q, VecV& v) override {
     const Vec3 w = body_angular_velocity(q, v);
     Vec3 a = q.head<3>();
@@ -61,10 +48,6 @@ class EulerAnglesLagrange final : public Representation {
     v = chart_.rate_matrix(a).partialPivLu().solve(w);
     return true;
   }
-
- private:
-  RigidBodyModel body_;
-  EulerChart chart_;
 };
 
 }  // namespace

@@ -1,6 +1,8 @@
 #pragma once
 // The current Euler-angle chart (sequence) of an Euler-angle representation,
-// and the move to the most regular chart at a given orientation.
+// the move to the most regular chart at a given orientation, and what the
+// two Euler-angle representations share.
+#include "rigidae/coords/representation.hpp"
 #include "rigidae/model/scene.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
 #include "rigidae/so3/rotation.hpp"
@@ -31,6 +33,37 @@ class EulerChart {
 
  private:
   so3::EulerSequence seq_;
+};
+
+// Three angles, no constraints, charts: the parts both equation forms share.
+class EulerAnglesRepresentation : public Representation {
+ public:
+  EulerAnglesRepresentation(const Scene& scene, const RigidBodyModel& body) : body_(body), chart_(scene) {}
+
+  int nq() const override { return 3; }
+  int nv() const override { return 3; }
+  int nc() const override { return 0; }
+  ConstraintKind constraint_kind() const override { return ConstraintKind::None; }
+  std::vector<std::string> constraint_names() const override { return {}; }
+
+  Vec4 orientation(const VecQ& q) const override { return so3::matrix_to_quaternion(placement(q)); }
+  Mat3 placement(const VecQ& q) const override { return chart_.rotation(q.head<3>()); }
+
+  bool has_charts() const override { return true; }
+  double chart_margin(const VecQ& q) const override { return chart_.margin(q.head<3>()); }
+  std::string chart_name() const override { return chart_.sequence().name(); }
+
+ protected:
+  // Empty constraint terms.
+  static void no_constraints(StandardTerms& out) {
+    out.phi.resize(0);
+    out.phi_q.resize(0, 3);
+    out.G.resize(0, 3);
+    out.gamma.resize(0);
+  }
+
+  RigidBodyModel body_;
+  EulerChart chart_;
 };
 
 }  // namespace rigidae::coords
