@@ -60,10 +60,9 @@ RunRecorder::RunRecorder(const DaeSystem& dae, const Scene& scene, const std::fi
   extremes_.multiplier_max = Eigen::VectorXd::Constant(nm, -std::numeric_limits<double>::infinity());
 }
 
-void RunRecorder::write_observation(std::FILE* f, const Observation& o, const std::string& prefix) {
-  fmt::memory_buffer b;
-  fmt::format_to(std::back_inserter(b), "{}{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.6e},{:.6e}",
-                 prefix, o.q_WB(0), o.q_WB(1), o.q_WB(2), o.q_WB(3), o.omega_B(0), o.omega_B(1), o.omega_B(2),
+void RunRecorder::write_observation(std::FILE* f, const Observation& o, fmt::memory_buffer& b) {
+  fmt::format_to(std::back_inserter(b), "{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.6e},{:.6e}",
+                 o.q_WB(0), o.q_WB(1), o.q_WB(2), o.q_WB(3), o.omega_B(0), o.omega_B(1), o.omega_B(2),
                  o.drift.position, o.drift.velocity);
   for (int i = 0; i < o.multipliers.size(); ++i) fmt::format_to(std::back_inserter(b), ",{:.10e}", o.multipliers(i));
   fmt::format_to(std::back_inserter(b), ",{:.17g},{:.6e},{:.17g},{:.6e}", o.energy, o.energy_error,
@@ -75,7 +74,9 @@ void RunRecorder::write_observation(std::FILE* f, const Observation& o, const st
 
 void RunRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& y) {
   const Observation o = step_observer_.observe(t, y);
-  write_observation(steps_.file(), o, fmt::format("{:.17g},{:.6e},{},", t, h, order));
+  fmt::memory_buffer b;  // on the stack: recording a step allocates nothing
+  fmt::format_to(std::back_inserter(b), "{:.17g},{:.6e},{},", t, h, order);
+  write_observation(steps_.file(), o, b);
   RunExtremes& e = extremes_;
   ++e.steps_recorded;
   e.max_drift_position = std::max(e.max_drift_position, o.drift.position);
@@ -89,7 +90,9 @@ void RunRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& 
 
 void RunRecorder::on_output(double t, const Eigen::VectorXd& y) {
   const Observation o = grid_observer_.observe(t, y);
-  write_observation(trajectory_.file(), o, fmt::format("{:.17g},", t));
+  fmt::memory_buffer b;
+  fmt::format_to(std::back_inserter(b), "{:.17g},", t);
+  write_observation(trajectory_.file(), o, b);
   if (extremes_.steps_recorded == 0) extremes_.last = o;
 }
 

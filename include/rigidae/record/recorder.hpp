@@ -7,6 +7,8 @@
 //   events.csv      one row per Euler-angle chart switch
 // Rows go through a large write buffer (no history is held in memory), and
 // the files are flushed when the run ends, however it ends.
+#include <fmt/format.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -54,7 +56,8 @@ class RunRecorder final : public StepSink {
   const std::vector<std::string>& multiplier_names() const { return multiplier_names_; }
 
  private:
-  void write_observation(std::FILE* f, const Observation& o, const std::string& prefix);
+  // Appends o's columns to the row started in b, then writes the row.
+  void write_observation(std::FILE* f, const Observation& o, fmt::memory_buffer& b);
 
   const DaeSystem& dae_;
   std::vector<std::string> multiplier_names_;
