@@ -167,6 +167,21 @@ double first_step_estimate(const DaeSystem& dae, double t0, const Eigen::VectorX
   return std::min(h, 1e-3 * span);
 }
 
+// Re-expresses (y, y') at t in the most regular chart and makes it
+// consistent. Returns the switch, with `to` empty if the chart stayed.
+ChartSwitch change_chart(DaeSystem& dae, double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
+  Representation& rep = dae.representation();
+  VecQ q = dae.coordinates(y.data());
+  VecV v = dae.velocities(y.data());
+  ChartSwitch s{t, rep.chart_name(), "", rep.chart_margin(q)};
+  if (!rep.change_chart(q, v)) return s;
+  s.to = rep.chart_name();
+  y.segment(dae.layout().q_offset(), q.size()) = q;
+  y.segment(dae.layout().v_offset(), v.size()) = v;
+  dae.make_consistent(t, y, yp);
+  return s;
+}
+
 }  // namespace
 
 RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
@@ -192,16 +207,11 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
           "switch_threshold {}); choose another sequence, 'auto', or enable switching",
           scene.source, rep.chart_name(), span.start, rep.chart_margin(dae.coordinates(y.data())),
           charts.switch_threshold));
-    ChartSwitch s{span.start, rep.chart_name(), "", rep.chart_margin(dae.coordinates(y.data()))};
-    VecQ q = dae.coordinates(y.data());
-    VecV v = dae.velocities(y.data());
-    rep.change_chart(q, v);
-    y.segment(dae.layout().q_offset(), q.size()) = q;
-    y.segment(dae.layout().v_offset(), v.size()) = v;
-    dae.make_consistent(span.start, y, yp);
-    s.to = rep.chart_name();
-    result.switches.push_back(s);
-    sink.on_chart_switch(s);
+    const ChartSwitch s = change_chart(dae, span.start, y, yp);
+    if (!s.to.empty()) {
+      result.switches.push_back(s);
+      sink.on_chart_switch(s);
+    }
   }
 
   Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(ida.y), n) = y;
@@ -297,10 +307,8 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
     if (flag == IDA_ROOT_RETURN) {
       // The chart nears its singularity: re-express the state and restart.
       y = y_ida;
-      VecQ q = dae.coordinates(y.data());
-      VecV v = dae.velocities(y.data());
-      const double margin = rep.chart_margin(q);
       if (!charts.switching) {
+        const double margin = rep.chart_margin(dae.coordinates(y.data()));
         result.status = RunStatus::Failed;
         result.message = fmt::format(
             "the Euler-angle chart '{}' reached its singularity margin {:.3g} at t = {:.9g} s (gimbal lock ahead; "
@@ -309,12 +317,8 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
             rep.chart_name(), margin, t);
         break;
       }
-      ChartSwitch s{t, rep.chart_name(), "", margin};
-      if (!rep.change_chart(q, v)) continue;  // already the most regular chart
-      s.to = rep.chart_name();
-      y.segment(dae.layout().q_offset(), q.size()) = q;
-      y.segment(dae.layout().v_offset(), v.size()) = v;
-      dae.make_consistent(t, y, yp);
+      const ChartSwitch s = change_chart(dae, t, y, yp);
+      if (s.to.empty()) continue;  // already the most regular chart
       y_ida = y;
       yp_ida = yp;
       add_counters(ida.mem, before_restart);
