@@ -41,6 +41,7 @@ class LinearEuler final : public Representation {
   }
   Mat3 placement(const VecQ& q) const override { return rows_to_matrix(q); }
   Vec3 body_angular_velocity(const VecQ& /*q*/, const VecV& v) const override { return v.head<3>(); }
+  void project_coordinates(VecQ& q) const override { matrix_to_rows(so3::nearest_rotation(rows_to_matrix(q)), q); }
 
  private:
   RigidBodyModel body_;

@@ -53,6 +53,7 @@ class LinearLagrange final : public Representation {
     const Mat3 A = rows_to_matrix(q).transpose() * rows_to_matrix(v);
     return so3::vee(A);
   }
+  void project_coordinates(VecQ& q) const override { matrix_to_rows(so3::nearest_rotation(rows_to_matrix(q)), q); }
 
  private:
   RigidBodyModel body_;

@@ -41,6 +41,7 @@ class QuaternionEuler final : public Representation {
   Vec4 orientation(const VecQ& q) const override { return q.head<4>().normalized(); }
   Mat3 placement(const VecQ& q) const override { return so3::quaternion_to_matrix(q.head<4>()); }
   Vec3 body_angular_velocity(const VecQ& /*q*/, const VecV& v) const override { return v.head<3>(); }
+  void project_coordinates(VecQ& q) const override { q.head<4>().normalize(); }
 
  private:
   RigidBodyModel body_;

@@ -75,6 +75,7 @@ class QuaternionLagrange final : public Representation {
     const Vec4 qq = q.head<4>();
     return 2.0 * quaternion_rate_map(qq).transpose() * v.head<4>() / qq.squaredNorm();
   }
+  void project_coordinates(VecQ& q) const override { q.head<4>().normalize(); }
 
  private:
   RigidBodyModel body_;

@@ -81,6 +81,7 @@ void DaeSystem::make_consistent(double t, Eigen::VectorXd& y, Eigen::VectorXd& y
 Eigen::VectorXd DaeSystem::differential_id() const {
   Eigen::VectorXd id = Eigen::VectorXd::Zero(layout_.size());
   id.head(layout_.nq + layout_.nv).setOnes();
+  if (scheme_->suppress_velocity_error_test(*rep_)) id.segment(layout_.v_offset(), layout_.nv).setZero();
   return id;
 }
 
@@ -104,6 +105,25 @@ ConstraintDrift DaeSystem::drift(double t, const double* y) const {
   else
     d.velocity = (terms.phi_q * terms.qdot).norm();
   return d;
+}
+
+void DaeSystem::project(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) const {
+  VecQ q = coordinates(y.data());
+  rep_->project_coordinates(q);
+  VecV v = velocities(y.data());
+  if (rep_->constraint_kind() == ConstraintKind::Force) {
+    StandardTerms terms;
+    rep_->evaluate(t, q, v, terms);
+    // v - M^-1 G^T (G M^-1 G^T)^-1 G v: the nearest v with G v = 0 in kinetic energy.
+    const auto M = terms.M.ldlt();
+    const MatCV MinvGt = M.solve(terms.G.transpose()).transpose();  // (M^-1 G^T)^T, nc x nv
+    const MatCV& G = terms.G;
+    const BoundedMat<kMaxConstraints, kMaxConstraints> S = G * MinvGt.transpose();
+    v -= MinvGt.transpose() * S.ldlt().solve(G * v);
+  }
+  y.segment(layout_.q_offset(), layout_.nq) = q;
+  y.segment(layout_.v_offset(), layout_.nv) = v;
+  make_consistent(t, y, yp);
 }
 
 std::unique_ptr<DaeSystem> assemble_dae(const Scene& scene) {

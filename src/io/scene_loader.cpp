@@ -53,10 +53,12 @@ constexpr std::array<std::string_view, 6> kInitialKeys{
 constexpr std::array<std::string_view, 3> kInitialEulerKeys{"sequence", "convention", "angles"};
 constexpr std::array<std::string_view, 2> kAxisAngleKeys{"axis", "angle"};
 constexpr std::array<std::string_view, 3> kTimeKeys{"start", "end", "output_step"};
-constexpr std::array<std::string_view, 4> kFormulationKeys{"coordinates", "equations", "scheme",
-                                                           "euler_angles"};
+constexpr std::array<std::string_view, 6> kFormulationKeys{"coordinates", "equations", "scheme",
+                                                           "euler_angles", "baumgarte", "projection"};
 constexpr std::array<std::string_view, 4> kEulerAnglesKeys{"sequence", "convention", "switching",
                                                            "switch_threshold"};
+constexpr std::array<std::string_view, 2> kBaumgarteKeys{"a", "b"};
+constexpr std::array<std::string_view, 2> kProjectionKeys{"when", "threshold"};
 constexpr std::array<std::string_view, 6> kSolverKeys{"rtol", "atol", "max_steps", "max_order",
                                                       "initial_step", "jacobian"};
 
@@ -68,7 +70,7 @@ struct SectionKeys {
   std::span<const std::string_view> keys;
 };
 // Used to point a key written in the wrong table to the right one.
-const std::array<SectionKeys, 11> kAllSections{{
+const std::array<SectionKeys, 13> kAllSections{{
     {"", kRootKeys},
     {"body", kBodyKeys},
     {"support", kSupportKeys},
@@ -79,6 +81,8 @@ const std::array<SectionKeys, 11> kAllSections{{
     {"time", kTimeKeys},
     {"formulation", kFormulationKeys},
     {"formulation.euler_angles", kEulerAnglesKeys},
+    {"formulation.baumgarte", kBaumgarteKeys},
+    {"formulation.projection", kProjectionKeys},
     {"solver", kSolverKeys},
 }};
 
@@ -88,6 +92,7 @@ constexpr double kMaxAngularVelocity = 1e6;      // rad/s
 constexpr double kMaxGravity = 1e4;              // m/s^2
 constexpr double kMaxCenterOfMass = 1e6;         // m
 constexpr double kMaxOutputIntervals = 1e8;      // (end - start) / output_step
+constexpr double kMaxBaumgarteGain = 1e8;        // 1/s
 
 constexpr double kInertiaSymmetryTol = 1e-12;    // relative
 constexpr double kTriangleTol = 1e-12;           // relative to the trace
@@ -651,6 +656,63 @@ void read_time(const Reader& r, const toml::table& root, Scene& scene) {
   scene.time.output_step = step;
 }
 
+void read_euler_charts(const Reader& r, const toml::table& f, EulerChartSpec& euler) {
+  const toml::table* ea = r.optional_table(f, "formulation", "euler_angles");
+  if (!ea) return;
+  r.check_keys(*ea, "formulation.euler_angles", kEulerAnglesKeys);
+  const bool extrinsic = read_convention(r, *ea, "formulation.euler_angles");
+  if (const toml::node* s = ea->get("sequence")) {
+    const std::string letters = r.string(*s, "formulation.euler_angles.sequence");
+    if (letters == "auto")
+      euler.sequence.reset();
+    else
+      euler.sequence = read_sequence(r, *s, "formulation.euler_angles.sequence", extrinsic, nullptr);
+  }
+  if (const toml::node* s = ea->get("switching"))
+    euler.switching = r.boolean(*s, "formulation.euler_angles.switching");
+  if (const toml::node* s = ea->get("switch_threshold")) {
+    const double th = r.number(*s, "formulation.euler_angles.switch_threshold");
+    if (!(th > 0.0 && th < 1.0))
+      r.fail(*s, fmt::format("'formulation.euler_angles.switch_threshold' = {} must lie in (0, 1) "
+                             "(a margin |sin b| or |cos b|)",
+                             th));
+    euler.switch_threshold = th;
+  }
+}
+
+void read_baumgarte(const Reader& r, const toml::table& f, BaumgarteGains& gains) {
+  const toml::table* b = r.optional_table(f, "formulation", "baumgarte");
+  if (!b) return;
+  r.check_keys(*b, "formulation.baumgarte", kBaumgarteKeys);
+  for (const char* key : {"a", "b"}) {
+    const toml::node* n = b->get(key);
+    if (!n) continue;
+    const std::string name = fmt::format("formulation.baumgarte.{}", key);
+    const double v = r.number(*n, name);
+    if (!(v >= 0.0 && v <= kMaxBaumgarteGain))
+      r.fail(*n, fmt::format("'{}' = {} must lie in [0, {:g}] (1/s; a rate of the constraint feedback)", name, v,
+                             kMaxBaumgarteGain));
+    (key[0] == 'a' ? gains.a : gains.b) = v;
+  }
+}
+
+void read_projection(const Reader& r, const toml::table& f, ProjectionSpec& spec) {
+  const toml::table* p = r.optional_table(f, "formulation", "projection");
+  if (!p) return;
+  r.check_keys(*p, "formulation.projection", kProjectionKeys);
+  if (const toml::node* w = p->get("when")) {
+    constexpr std::array<std::string_view, 2> opts{"threshold", "every_step"};
+    spec.every_step = r.choice(*w, "formulation.projection.when", opts) == 1;
+  }
+  if (const toml::node* n = p->get("threshold")) {
+    const double v = r.number(*n, "formulation.projection.threshold");
+    if (!(v > 0.0 && v < 1.0))
+      r.fail(*n, fmt::format("'formulation.projection.threshold' = {} must lie in (0, 1) (a drift |Phi|, e.g. 1e-8)",
+                             v));
+    spec.threshold = v;
+  }
+}
+
 void read_formulation(const Reader& r, const toml::table& root, Scene& scene) {
   const toml::table* f = r.optional_table(root, "", "formulation");
   if (!f) return;
@@ -674,27 +736,9 @@ void read_formulation(const Reader& r, const toml::table& root, Scene& scene) {
     form.scheme = names[r.choice(*s, "formulation.scheme", views)];
   }
 
-  const toml::table* ea = r.optional_table(*f, "formulation", "euler_angles");
-  if (!ea) return;
-  r.check_keys(*ea, "formulation.euler_angles", kEulerAnglesKeys);
-  const bool extrinsic = read_convention(r, *ea, "formulation.euler_angles");
-  if (const toml::node* s = ea->get("sequence")) {
-    const std::string letters = r.string(*s, "formulation.euler_angles.sequence");
-    if (letters == "auto")
-      form.euler.sequence.reset();
-    else
-      form.euler.sequence = read_sequence(r, *s, "formulation.euler_angles.sequence", extrinsic, nullptr);
-  }
-  if (const toml::node* s = ea->get("switching"))
-    form.euler.switching = r.boolean(*s, "formulation.euler_angles.switching");
-  if (const toml::node* s = ea->get("switch_threshold")) {
-    const double th = r.number(*s, "formulation.euler_angles.switch_threshold");
-    if (!(th > 0.0 && th < 1.0))
-      r.fail(*s, fmt::format("'formulation.euler_angles.switch_threshold' = {} must lie in (0, 1) "
-                             "(a margin |sin b| or |cos b|)",
-                             th));
-    form.euler.switch_threshold = th;
-  }
+  read_euler_charts(r, *f, form.euler);
+  read_baumgarte(r, *f, form.baumgarte);
+  read_projection(r, *f, form.projection);
 }
 
 void read_solver(const Reader& r, const toml::table& root, Scene& scene) {

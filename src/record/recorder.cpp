@@ -53,8 +53,10 @@ RunRecorder::RunRecorder(const DaeSystem& dae, const Scene& scene, const std::fi
              "t,h,order," + observation_columns(multiplier_names_) + (with_chart_ ? ",chart" : "")),
       trajectory_(out_dir / "trajectory.csv", kUnits,
                   "t," + observation_columns(multiplier_names_) + (with_chart_ ? ",chart" : "")),
-      events_(out_dir / "events.csv", "# units: t s; margin |det B| of the chart left, 1",
-              "t,event,from,to,margin") {
+      events_(out_dir / "events.csv",
+              "# units: t s; margin |det B| of the chart left (chart_switch), 1; drift_position |Phi| 1 and "
+              "drift_velocity |dPhi/dt| 1/s just before a projection",
+              "t,event,from,to,margin,drift_position,drift_velocity") {
   const int nm = static_cast<int>(multiplier_names_.size());
   extremes_.multiplier_min = Eigen::VectorXd::Constant(nm, std::numeric_limits<double>::infinity());
   extremes_.multiplier_max = Eigen::VectorXd::Constant(nm, -std::numeric_limits<double>::infinity());
@@ -97,7 +99,11 @@ void RunRecorder::on_output(double t, const Eigen::VectorXd& y) {
 }
 
 void RunRecorder::on_chart_switch(const ChartSwitch& s) {
-  fmt::print(events_.file(), "{:.17g},chart_switch,{},{},{:.6e}\n", s.t, s.from, s.to, s.margin);
+  fmt::print(events_.file(), "{:.17g},chart_switch,{},{},{:.6e},,\n", s.t, s.from, s.to, s.margin);
+}
+
+void RunRecorder::on_projection(double t, const ConstraintDrift& before) {
+  fmt::print(events_.file(), "{:.17g},projection,,,,{:.6e},{:.6e}\n", t, before.position, before.velocity);
 }
 
 void RunRecorder::flush() {

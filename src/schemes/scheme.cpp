@@ -8,6 +8,10 @@ std::string ConstraintScheme::note(const Representation& rep) const {
   return {};
 }
 
+VecC ConstraintScheme::acceleration_target(const StandardTerms& t, const ConstVecRef& /*v*/) const { return t.gamma; }
+
+VecC ConstraintScheme::rate_target(const StandardTerms& t) const { return VecC::Zero(t.phi.size()); }
+
 void ConstraintScheme::consistent_start(const StandardTerms& t, const UnknownLayout& lay, VecRef y,
                                         VecRef yp) const {
   const int nv = lay.nv;
@@ -19,7 +23,7 @@ void ConstraintScheme::consistent_start(const StandardTerms& t, const UnknownLay
     K.topRightCorner(nv, nc) = t.G.transpose();
     K.bottomLeftCorner(nc, nv) = t.G;
     BoundedVec<kMaxVelocities + kMaxConstraints> rhs(nv + nc);
-    rhs << t.f, t.gamma;
+    rhs << t.f, acceleration_target(t, y.segment(lay.v_offset(), nv));
     const BoundedVec<kMaxVelocities + kMaxConstraints> sol = K.fullPivLu().solve(rhs);
     yp.segment(lay.v_offset(), nv) = sol.head(nv);
     y.segment(lay.lambda_offset(), nc) = sol.tail(nc);
@@ -28,7 +32,7 @@ void ConstraintScheme::consistent_start(const StandardTerms& t, const UnknownLay
   }
   yp.segment(lay.q_offset(), lay.nq) = t.qdot;
   if (lay.n_mu > 0) {
-    const VecC mu = (t.phi_q * t.phi_q.transpose()).ldlt().solve(t.phi_q * t.qdot);
+    const VecC mu = (t.phi_q * t.phi_q.transpose()).ldlt().solve(t.phi_q * t.qdot - rate_target(t));
     y.segment(lay.mu_offset(), lay.n_mu) = mu;
     yp.segment(lay.q_offset(), lay.nq) -= t.phi_q.transpose() * mu;
   }

@@ -22,3 +22,34 @@ inline void dynamic_rows(const StandardTerms& t, const UnknownLayout& lay, const
 }
 
 }  // namespace rigidae::schemes
+
+namespace rigidae::schemes {
+
+// The constraint rows of one level, written into the multiplier group that
+// level determines (lambda for the Force kind, mu for the Kinematic kind).
+// Position level: Phi(q).
+inline void position_level_rows(const StandardTerms& t, VecRef rows) { rows = t.phi; }
+
+// Velocity level: G v (Force kind, the layout carries lambda) or Phi_q q'
+// (Kinematic kind, where q' carries mu through the kinematic rows).
+inline void velocity_level_rows(const StandardTerms& t, const UnknownLayout& lay, const ConstVecRef& y,
+                                const ConstVecRef& yp, VecRef rows) {
+  if (lay.n_lambda > 0)
+    rows.noalias() = t.G * y.segment(lay.v_offset(), lay.nv);
+  else
+    rows.noalias() = t.phi_q * yp.segment(lay.q_offset(), lay.nq);
+}
+
+// Acceleration level (Force kind): G v' - gamma.
+inline void acceleration_level_rows(const StandardTerms& t, const UnknownLayout& lay, const ConstVecRef& yp,
+                                    VecRef rows) {
+  rows.noalias() = t.G * yp.segment(lay.v_offset(), lay.nv);
+  rows -= t.gamma;
+}
+
+// The multiplier group a single-level scheme solves for.
+inline VecRef constraint_rows(const UnknownLayout& lay, VecRef F) {
+  return lay.n_lambda > 0 ? F.segment(lay.lambda_offset(), lay.n_lambda) : F.segment(lay.mu_offset(), lay.n_mu);
+}
+
+}  // namespace rigidae::schemes

@@ -278,6 +278,17 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
   Eigen::Map<Eigen::VectorXd> y_ida(N_VGetArrayPointer(ida.y), n);
   Eigen::Map<Eigen::VectorXd> yp_ida(N_VGetArrayPointer(ida.yp), n);
   long steps_total = 0;
+  const ProjectionPolicy projection = dae.scheme().projection();
+
+  // Hands the state (y, yp) at t back to IDA as a new start.
+  auto restart = [&](double h0) {
+    y_ida = y;
+    yp_ida = yp;
+    add_counters(ida.mem, before_restart);
+    check(IDAReInit(ida.mem, t, ida.y, ida.yp), "IDAReInit");
+    check(IDASetInitStep(ida.mem, h0), "IDASetInitStep");
+    ++before_restart.restarts;
+  };
 
   while (t < span.end) {
     if (g_interrupt_requested.load()) {
@@ -319,12 +330,7 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
       }
       const ChartSwitch s = change_chart(dae, t, y, yp);
       if (s.to.empty()) continue;  // already the most regular chart
-      y_ida = y;
-      yp_ida = yp;
-      add_counters(ida.mem, before_restart);
-      check(IDAReInit(ida.mem, t, ida.y, ida.yp), "IDAReInit");
-      check(IDASetInitStep(ida.mem, first_step_estimate(dae, t, y, yp, opt, span.end - span.start)), "IDASetInitStep");
-      ++before_restart.restarts;
+      restart(first_step_estimate(dae, t, y, yp, opt, span.end - span.start));
       result.switches.push_back(s);
       sink.on_chart_switch(s);
       continue;
@@ -336,6 +342,19 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
     IDAGetLastOrder(ida.mem, &order);
     y = y_ida;
     sink.on_step(t, h, order, y);
+    if (projection.enabled && t < span.end) {
+      const ConstraintDrift before = dae.drift(t, y.data());
+      if (projection.every_step || before.position > projection.threshold ||
+          before.velocity > projection.threshold) {
+        // IDA keeps no memory across the restart: the step size is carried
+        // over, the order and the history are lost.
+        yp = yp_ida;
+        dae.project(t, y, yp);
+        restart(h);
+        ++before_restart.projections;
+        sink.on_projection(t, before);
+      }
+    }
   }
 
   result.t_reached = t;

@@ -106,3 +106,46 @@ TEST_CASE("cli: a solver failure exits 1 and says why") {
   CHECK(r.output.find("too much work") != std::string::npos);
   CHECK(std::filesystem::exists(out / "summary.json"));
 }
+
+TEST_CASE("cli: compare writes the table, the CSV and a folder per combination") {
+  const auto out = std::filesystem::temp_directory_path() / "rigidae_cli_tests" / "compare";
+  std::filesystem::remove_all(out);
+  const Result r = run_cli("compare " + kScene + " --t-end 0.05 --repeat 2 --only 'quaternion/*/ggl,euler/*/*,projection' "
+                           "--skip linear --out " + out.string());
+  CAPTURE(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("reference: quaternion/euler/ggl") != std::string::npos);
+  for (const char* dir : {"quaternion-lagrange-ggl", "quaternion-euler-ggl", "euler-lagrange-any", "euler-euler-any",
+                          "quaternion-euler-projection", "reference", "reference-check"})
+    CHECK(std::filesystem::exists(out / dir / "summary.json"));
+  CHECK_FALSE(std::filesystem::exists(out / "linear-euler-projection"));
+  std::ifstream csv(out / "compare.csv");
+  std::string line;
+  long rows = -2;  // units and header
+  while (std::getline(csv, line)) ++rows;
+  CHECK(rows == 6);
+  CHECK(std::filesystem::exists(out / "compare.txt"));
+}
+
+TEST_CASE("cli: compare rejects options that pick one combination, and empty selections") {
+  Result r = run_cli("compare " + kScene + " --scheme ggl");
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("--only") != std::string::npos);
+  r = run_cli("compare " + kScene + " --only nothing_matches");
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("no combination") != std::string::npos);
+  r = run_cli("compare " + kScene + " --repeat 0");
+  CHECK(r.exit_code == 2);
+}
+
+TEST_CASE("cli: scheme parameters are options with checked values") {
+  const auto out = std::filesystem::temp_directory_path() / "rigidae_cli_tests" / "baumgarte";
+  Result r = run_cli("solve " + kScene + " --scheme baumgarte --coordinates linear --equations lagrange --baumgarte-a 50 "
+                     "--baumgarte-b 40 --t-end 0.05 --out " + out.string());
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("a = 50 1/s, b = 40 1/s") != std::string::npos);
+  r = run_cli("solve " + kScene + " --baumgarte-a -1");
+  CHECK(r.exit_code == 2);
+  r = run_cli("solve " + kScene + " --projection-threshold 0");
+  CHECK(r.exit_code == 2);
+}

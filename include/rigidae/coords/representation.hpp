@@ -71,6 +71,9 @@ class Representation {
   virtual Mat3 placement(const VecQ& q) const = 0;
   // Body angular velocity the state describes.
   virtual Vec3 body_angular_velocity(const VecQ& q, const VecV& v) const = 0;
+  // Moves q to the nearest point of the constraint manifold (a unit
+  // quaternion; the orthogonal polar factor of R). No-op without constraints.
+  virtual void project_coordinates(VecQ& /*q*/) const {}
 
   // Charts. Representations with singular charts (Euler angles) report a
   // margin in [0, 1] (1 far from the singularity, 0 at it) and can re-express

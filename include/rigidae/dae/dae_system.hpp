@@ -50,12 +50,19 @@ class DaeSystem {
   // Keeps q, v of y and recomputes the multipliers and y' consistently.
   void make_consistent(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) const;
 
-  // 1 for differential unknowns (q, v), 0 for algebraic ones (multipliers).
+  // IDA's id vector: 1 for differential unknowns (q, v), 0 for algebraic
+  // ones (multipliers). IDA reads it only to drop id-0 components from the
+  // error test (IDASetSuppressAlg) and in IDACalcIC, which rigidae does not
+  // call; so an index-3 scheme marks v with 0 to leave v out of the test.
   Eigen::VectorXd differential_id() const;
   // Names of the multipliers in y's order, e.g. "lambda_norm", "mu_c12".
   std::vector<std::string> multiplier_names() const;
 
   ConstraintDrift drift(double t, const double* y) const;
+
+  // Maps q of y onto the constraint manifold and v onto G(q) v = 0 in the
+  // metric of M (Force kind), then makes (y, y') consistent at t.
+  void project(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) const;
 
   // Views of q and v inside y.
   VecQ coordinates(const double* y) const;

@@ -4,7 +4,9 @@
 // Produced only by io::load_scene (which checks every value and reports
 // file:line:col on failure) or built directly in tests. Units are SI and
 // angles radians throughout.
+#include <algorithm>
 #include <optional>
+#include <utility>
 #include <string>
 
 #include "rigidae/core/types.hpp"
@@ -31,11 +33,27 @@ struct EulerChartSpec {
   double switch_threshold = 0.1;   // margin |sin b| or |cos b| that triggers a switch, in (0, 1)
 };
 
+// Baumgarte's feedback Phi'' + 2 a Phi' + b^2 Phi = 0 (Force kind) and
+// Phi' + a Phi = 0 (Kinematic kind, where the constraint is first order).
+// Unset gains default to the initial angular speed (see baumgarte_gains).
+struct BaumgarteGains {
+  std::optional<double> a;  // 1/s, >= 0: damping of the drift
+  std::optional<double> b;  // 1/s, >= 0: stiffness of the drift
+};
+
+// When the projection scheme maps the state back onto the manifold.
+struct ProjectionSpec {
+  bool every_step = false;          // true: after every step; false: when the drift passes the threshold
+  std::optional<double> threshold;  // on |Phi| and on |G v| (or |dPhi/dt|); unset: see projection_threshold
+};
+
 struct Formulation {
   Coordinates coordinates = Coordinates::Quaternion;
   Equations equations = Equations::Lagrange;
   std::string scheme = "ggl";  // name in the scheme registry
   EulerChartSpec euler;        // used only with Coordinates::EulerAngles
+  BaumgarteGains baumgarte;    // used only by the baumgarte scheme
+  ProjectionSpec projection;   // used only by the projection scheme
 };
 
 struct SolverSettings {
@@ -68,5 +86,21 @@ struct Scene {
   Formulation formulation;
   SolverSettings solver;
 };
+
+// The Baumgarte gains a run uses, (a, b) in 1/s. Unset ones default to the
+// initial angular speed |omega_0| (at least 1/s): drift is corrected within
+// about one revolution. On the heavy top (150 rad/s) gains of 1/s left 100x
+// more drift, and 10^4/s made the system stiff (3x the steps).
+inline std::pair<double, double> baumgarte_gains(const Scene& s) {
+  const double rate = std::max(1.0, s.omega0_B.norm());
+  return {s.formulation.baumgarte.a.value_or(rate), s.formulation.baumgarte.b.value_or(rate)};
+}
+
+// The drift at which the projection scheme projects. Unset: 100 atol. A
+// threshold near atol restarts IDA almost every step, since each step's own
+// error is about atol (on the heavy top: 1.5 million restarts in 2 s).
+inline double projection_threshold(const Scene& s) {
+  return s.formulation.projection.threshold.value_or(100.0 * s.solver.atol);
+}
 
 }  // namespace rigidae

@@ -50,6 +50,7 @@ class RunRecorder final : public StepSink {
   void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
   void on_output(double t, const Eigen::VectorXd& y) override;
   void on_chart_switch(const ChartSwitch& s) override;
+  void on_projection(double t, const ConstraintDrift& before) override;
   void flush();
 
   const RunExtremes& extremes() const { return extremes_; }

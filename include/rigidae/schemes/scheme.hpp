@@ -18,6 +18,13 @@
 
 namespace rigidae {
 
+// When a drifting scheme maps the state back onto the constraint manifold.
+struct ProjectionPolicy {
+  bool enabled = false;
+  bool every_step = false;  // after every accepted step, or only when the drift passes threshold
+  double threshold = 0.0;   // on |Phi| and |G v| (or |dPhi/dt|)
+};
+
 struct UnknownLayout {
   int nq = 0, nv = 0, n_lambda = 0, n_mu = 0;
   int q_offset() const { return 0; }
@@ -39,6 +46,10 @@ class ConstraintScheme {
   virtual UnknownLayout layout(const Representation& rep) const = 0;
   // True when multipliers must leave IDA's error test (index 2 and above).
   virtual bool suppress_multiplier_error_test() const = 0;
+  // True when the velocities must leave it too (index 3, where v is index 2).
+  virtual bool suppress_velocity_error_test(const Representation& /*rep*/) const { return false; }
+  // Whether and when the driver projects the state onto the manifold.
+  virtual ProjectionPolicy projection() const { return {}; }
   // A note for the report when the scheme does something unusual for this
   // representation (e.g. nothing at all: Euler angles have no constraints).
   virtual std::string note(const Representation& rep) const;
@@ -52,8 +63,16 @@ class ConstraintScheme {
   // (v', lambda) from the constrained-acceleration system
   //   [M G^T; G 0] (v', lambda) = (f, gamma),
   // mu from d/dt Phi = Phi_q (N v - Phi_q^T mu) = 0 (zero on exact data),
+  // (gamma and 0 replaced by the targets below for schemes with feedback),
   // q' = N v - Phi_q^T mu. Schemes whose acceleration level differs override.
   virtual void consistent_start(const StandardTerms& terms, const UnknownLayout& lay, VecRef y, VecRef yp) const;
+
+ protected:
+  // What the consistent start solves for, so that a scheme with feedback
+  // starts on its own solution: G v' = acceleration_target (Force kind) and
+  // Phi_q q' = rate_target (Kinematic kind with mu).
+  virtual VecC acceleration_target(const StandardTerms& terms, const ConstVecRef& v) const;
+  virtual VecC rate_target(const StandardTerms& terms) const;
 };
 
 // The registered schemes, by name.

@@ -24,7 +24,8 @@ struct IdaCounters {
   long error_test_fails = 0;
   long linear_setups = 0;
   long root_evals = 0;
-  long restarts = 0;  // IDAReInit calls (chart switches)
+  long restarts = 0;     // IDAReInit calls (chart switches and projections)
+  long projections = 0;  // states mapped back onto the constraint manifold
   double last_step = 0.0;
   int last_order = 0;
 };
@@ -56,6 +57,8 @@ class StepSink {
   // At each point of the output grid (IDA's interpolation).
   virtual void on_output(double t, const Eigen::VectorXd& y) = 0;
   virtual void on_chart_switch(const ChartSwitch& s) = 0;
+  // After a step whose state was projected onto the manifold (drift before it).
+  virtual void on_projection(double t, const ConstraintDrift& before) = 0;
 };
 
 // Set to true (e.g. from a SIGINT handler) to stop the run between steps.

@@ -1,0 +1,86 @@
+#pragma once
+// One scene in every applicable coordinates x equations x scheme combination,
+// side by side against one reference.
+//
+// Folder layout (out):
+//   compare.csv, compare.txt, compare.md   the table
+//   reference/, reference-check/          the reference and its cross-check
+//   COORDINATES-EQUATIONS-SCHEME/         each combination's run folder, as `solve` writes it
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rigidae/app/solve.hpp"
+#include "rigidae/model/scene.hpp"
+
+namespace rigidae {
+
+// Euler angles carry no constraint, so every scheme gives them the same
+// ODE: they appear once per equation form, with scheme "any".
+struct Combination {
+  Coordinates coordinates = Coordinates::Quaternion;
+  Equations equations = Equations::Euler;
+  std::string scheme;  // registry name, or "any"
+
+  std::string name() const;    // "quaternion/euler/ggl"
+  std::string folder() const;  // "quaternion-euler-ggl"
+  Scene applied_to(const Scene& scene) const;
+};
+
+// Every applicable combination, coordinates then equations then schemes in registry order.
+std::vector<Combination> all_combinations();
+
+// A pattern with '/' is a glob over the whole name ("quaternion/*/ggl");
+// one without matches any single part ("ggl", "linear", "index*").
+bool matches(const Combination& c, const std::string& pattern);
+
+struct CompareOptions {
+  int repeat = 3;                     // wall time: median of this many runs
+  std::vector<std::string> only, skip;
+  std::filesystem::path out;
+  std::optional<double> reference_rtol;  // default: rtol / 100, clamped to [1e-13, 1e-12]
+};
+
+// The reference: a tight run of one combination, its accuracy estimated by
+// the largest angle to a tight run in different coordinates.
+struct ReferenceInfo {
+  std::string combination, check_combination;
+  double rtol = 0.0;
+  bool ok = false;
+  std::string message;                  // why it failed, if it did
+  double accuracy_rad = 0.0;            // max angle between the two over the output grid
+  std::vector<double> t;                // output grid
+  std::vector<Vec4> q_WB;               // reference orientation on it
+};
+
+struct CompareRow {
+  Combination combination;
+  SolveOutcome outcome;           // of the first run
+  std::vector<double> wall_seconds;  // one per repeat
+  double wall_median = 0.0;
+  double error_final_rad = 0.0;   // NaN when the run did not reach the end or there is no reference
+  double error_max_rad = 0.0;     // over the output grid points the run reached
+  double lambda_min = 0.0, lambda_max = 0.0;  // J, NaN without force multipliers
+  double mu_abs_max = 0.0;                    // 1/s, NaN without kinematic multipliers
+};
+
+struct CompareReport {
+  std::string scene_name, scene_source;
+  double rtol = 0.0, atol = 0.0;
+  ReferenceInfo reference;
+  std::vector<CompareRow> rows;
+};
+
+// Runs everything; one combination's failure is a row, not an exception.
+// progress receives one line per finished run (may be empty).
+CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
+                            const std::function<void(const std::string&)>& progress);
+
+// The fixed-width table `rigidae compare` prints.
+std::string format_compare_table(const CompareReport& r);
+// compare.csv, compare.txt and compare.md into opt.out.
+void write_compare_outputs(const CompareReport& r, const std::filesystem::path& out);
+
+}  // namespace rigidae

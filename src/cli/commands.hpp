@@ -1,0 +1,16 @@
+#pragma once
+// The subcommands of the rigidae CLI. Each returns its exit code and throws
+// InputError for bad input; main() turns exceptions into exit codes.
+#include <string>
+#include <vector>
+
+namespace rigidae::cli {
+
+int solve_command(const std::vector<std::string>& args);
+int compare_command(const std::vector<std::string>& args);
+
+// Help texts, printed by --help.
+extern const char* kSolveHelp;
+extern const char* kCompareHelp;
+
+}  // namespace rigidae::cli

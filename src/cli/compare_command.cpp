@@ -1,0 +1,153 @@
+// rigidae compare SCENE: every combination side by side, as a table, a CSV
+// and (with --plot) figures drawn by tools/plot_compare.py.
+#include <fmt/format.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+#include "commands.hpp"
+#include "rigidae/app/compare.hpp"
+#include "rigidae/core/error.hpp"
+#include "rigidae/io/scene_loader.hpp"
+#include "scene_options.hpp"
+
+namespace rigidae::cli {
+
+const char* kCompareHelp = R"(Options of 'compare' (runs every applicable coordinates x equations x scheme):
+  --repeat N              wall time is the median of N runs (default 3)
+  --only LIST             comma-separated patterns of combinations to run:
+                          'quaternion/*/ggl' globs the whole name, a bare word
+                          ('ggl', 'linear', 'index*') matches any one part
+                          ('euler' matches both Euler angles and the Euler form)
+  --skip LIST             patterns of combinations to leave out
+  --reference-rtol X      tolerance of the reference runs (default rtol/100,
+                          clamped to [1e-13, 1e-12])
+  --out DIR               output folder (default: out/NAME-compare)
+  --plot                  draw figures with tools/plot_compare.py into DIR/figures
+  --quiet                 no progress lines, no table on stdout
+  and every scene override of 'solve' except --coordinates/--equations/--scheme.
+Exit code 0 when every run finished, failed combinations included (they are
+rows of the table); 1 when the reference could not be computed.
+)";
+
+namespace {
+
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty()) items.push_back(item);
+  return items;
+}
+
+// Runs program with args, waits; returns its exit status (127 if it could not start).
+int run_program(const std::vector<std::string>& argv) {
+  const pid_t pid = fork();
+  if (pid < 0) return 127;
+  if (pid == 0) {
+    std::vector<char*> cargv;
+    for (const auto& a : argv) cargv.push_back(const_cast<char*>(a.c_str()));
+    cargv.push_back(nullptr);
+    execv(cargv[0], cargv.data());
+    _exit(127);
+  }
+  int status = 0;
+  if (waitpid(pid, &status, 0) < 0) return 127;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+}
+
+// tools/plot_compare.py: $RIGIDAE_TOOLS_DIR, the source tree's tools/, or
+// tools/ next to the executable's parent folder.
+std::filesystem::path find_plot_script() {
+  std::vector<std::filesystem::path> dirs;
+  if (const char* env = std::getenv("RIGIDAE_TOOLS_DIR")) dirs.emplace_back(env);
+#ifdef RIGIDAE_TOOLS_DIR
+  dirs.emplace_back(RIGIDAE_TOOLS_DIR);
+#endif
+  std::error_code ec;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) dirs.push_back(exe.parent_path().parent_path() / "tools");
+  for (const auto& d : dirs)
+    if (std::filesystem::exists(d / "plot_compare.py")) return d / "plot_compare.py";
+  return {};
+}
+
+}  // namespace
+
+int compare_command(const std::vector<std::string>& args) {
+  std::string scene_path;
+  CompareOptions opt;
+  bool quiet = false, plot = false;
+  std::vector<std::pair<std::string, std::string>> overrides;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= args.size()) throw InputError(fmt::format("option {} needs a value (see rigidae --help)", a));
+      return args[++i];
+    };
+    bool takes_value = false;
+    if (a == "--quiet") quiet = true;
+    else if (a == "--plot") plot = true;
+    else if (a == "--out") opt.out = value();
+    else if (a == "--repeat") {
+      const long n = parse_count(a, value());
+      if (n > 1000) throw InputError("option --repeat: at most 1000 repeats");
+      opt.repeat = static_cast<int>(n);
+    } else if (a == "--only") opt.only = split_list(value());
+    else if (a == "--skip") opt.skip = split_list(value());
+    else if (a == "--reference-rtol") {
+      const double x = parse_number(a, value());
+      if (!(x > 0 && x < 1)) throw InputError(fmt::format("option --reference-rtol: {} is outside (0, 1)", x));
+      opt.reference_rtol = x;
+    } else if (a == "--coordinates" || a == "--equations" || a == "--scheme")
+      throw InputError(fmt::format("option {} does not apply to compare, which runs every combination; select "
+                                   "with --only/--skip (e.g. --only 'quaternion/*/ggl')",
+                                   a));
+    else if (is_scene_option(a, takes_value)) overrides.emplace_back(a, takes_value ? value() : "");
+    else if (a.rfind("--", 0) == 0) throw InputError(fmt::format("unknown option '{}' for compare; see rigidae --help", a));
+    else if (scene_path.empty()) scene_path = a;
+    else throw InputError(fmt::format("unexpected argument '{}': compare takes one scene file", a));
+  }
+  if (scene_path.empty()) throw InputError("compare needs a scene file: rigidae compare SCENE.toml");
+  Scene scene = io::load_scene(scene_path);
+  for (const auto& [o, text] : overrides) apply_scene_option(scene, o, text);
+  if (opt.out.empty()) opt.out = std::filesystem::path("out") / fmt::format("{}-compare", scene.name.empty() ? "scene" : scene.name);
+
+  std::error_code ec;
+  std::filesystem::create_directories(opt.out, ec);
+  if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", opt.out.string(), ec.message()));
+
+  const CompareReport report = compare_scene(scene, opt, [&](const std::string& line) {
+    if (!quiet) fmt::print(stderr, "{}\n", line);
+  });
+  write_compare_outputs(report, opt.out);
+  if (!quiet) fmt::print("{}", format_compare_table(report));
+  if (!quiet) fmt::print("outputs: {}/ (compare.csv, compare.txt, compare.md, one folder per combination)\n", opt.out.string());
+
+  if (plot) {
+    const std::filesystem::path script = find_plot_script();
+    const char* python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : nullptr;
+    if (script.empty() || !python)
+      fmt::print(stderr, "rigidae: warning: --plot skipped: {} not found\n",
+                 script.empty() ? "tools/plot_compare.py (set RIGIDAE_TOOLS_DIR)" : "/usr/bin/python3");
+    else {
+      std::vector<std::string> cmd{python, script.string(), opt.out.string()};
+      if (quiet) cmd.push_back("--quiet");
+      const int rc = run_program(cmd);
+      if (rc != 0)
+        fmt::print(stderr, "rigidae: warning: {} exited with {} (needs Debian's python3-matplotlib); the table and "
+                           "CSV are written\n", script.string(), rc);
+    }
+  }
+  if (!report.reference.ok) {
+    fmt::print(stderr, "rigidae: error: {}\n", report.reference.message);
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace rigidae::cli

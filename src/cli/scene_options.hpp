@@ -1,0 +1,24 @@
+#pragma once
+// Command-line options that override a scene file, shared by the commands.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "rigidae/model/scene.hpp"
+
+namespace rigidae::cli {
+
+// "a, b, c"
+std::string valid_list(const std::vector<std::string>& v);
+double parse_number(const std::string& opt, const std::string& text);
+long parse_count(const std::string& opt, const std::string& text);
+
+// True if opt is a scene override; takes_value says whether a value follows.
+bool is_scene_option(const std::string& opt, bool& takes_value);
+// Applies one override (checked; InputError names the option and what is valid).
+void apply_scene_option(Scene& scene, const std::string& opt, const std::string& text);
+
+// The help lines of the overrides every command accepts.
+extern const char* kSceneOptionsHelp;
+
+}  // namespace rigidae::cli

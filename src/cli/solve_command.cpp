@@ -1,0 +1,97 @@
+// rigidae solve SCENE: one run, its report on stdout, outputs in a folder.
+#include <fmt/format.h>
+
+#include <csignal>
+
+#include "commands.hpp"
+#include "rigidae/app/solve.hpp"
+#include "rigidae/core/error.hpp"
+#include "rigidae/io/scene_loader.hpp"
+#include "scene_options.hpp"
+
+namespace rigidae::cli {
+
+const char* kSolveHelp = R"(Options of 'solve' (each overrides the scene file):
+  --coordinates euler|quaternion|linear
+                          rotation coordinates: Euler angles (3, singular charts,
+                          switched during the run), unit quaternions (4, 1
+                          constraint) or the 9 entries of R (6 constraints)
+  --equations lagrange|euler
+                          Lagrange form (mass matrix in the coordinates) or Euler
+                          form (body angular velocity states + kinematics)
+  --scheme NAME           constraint treatment: {schemes}
+  --out DIR               output folder (default: out/NAME-COORDINATES-EQUATIONS-SCHEME)
+  --quiet                 print nothing on success
+)";
+
+namespace {
+
+void print_report(const Scene& scene, const SolveOutcome& o) {
+  const RunResult& r = o.run;
+  const IdaCounters& c = r.counters;
+  const Observation& f = o.extremes.last;
+  fmt::print("rigidae {}: {} ({})\n", RIGIDAE_VERSION, scene.name, scene.source);
+  fmt::print("  formulation   {} with scheme {}\n", o.representation, o.scheme);
+  if (!o.note.empty()) fmt::print("  note          {}\n", o.note);
+  fmt::print("  tolerances    rtol {:g}, atol {:g}\n", scene.solver.rtol, scene.solver.atol);
+  fmt::print("  status        {}{}\n", to_string(r.status),
+             r.status == RunStatus::Success ? fmt::format(": t = {:g} s reached", r.t_reached) : ": " + r.message);
+  fmt::print("  work          {} steps, {} residual evaluations ({} for Jacobians), {} Jacobians, {:.3f} s wall\n",
+             c.steps, c.residual_evals + c.jacobian_residual_evals, c.jacobian_residual_evals, c.jacobian_evals,
+             o.wall_seconds);
+  fmt::print("  failures      {} error-test, {} Newton convergence\n", c.error_test_fails, c.nonlinear_conv_fails);
+  fmt::print("  final t       {:.9g} s\n", f.t);
+  fmt::print("  final q_WB    ({:.8f}, {:.8f}, {:.8f}, {:.8f})\n", f.q_WB(0), f.q_WB(1), f.q_WB(2), f.q_WB(3));
+  fmt::print("  final omega_B ({:.6f}, {:.6f}, {:.6f}) rad/s\n", f.omega_B(0), f.omega_B(1), f.omega_B(2));
+  fmt::print("  max drift     position {:.2e}, velocity {:.2e}\n", o.extremes.max_drift_position,
+             o.extremes.max_drift_velocity);
+  fmt::print("  invariants    max |energy rel. error| {:.2e}, max |vertical momentum rel. error| {:.2e}\n",
+             o.extremes.max_abs_energy_error, o.extremes.max_abs_vertical_momentum_error);
+  for (std::size_t i = 0; i < o.multiplier_names.size() && o.extremes.steps_recorded > 0; ++i)
+    fmt::print("  multiplier    {} in [{:.4g}, {:.4g}]\n", o.multiplier_names[i], o.extremes.multiplier_min(i),
+               o.extremes.multiplier_max(i));
+  if (!r.switches.empty())
+    fmt::print("  charts        {} switches; first at t = {:.6g} s ({} -> {})\n", r.switches.size(), r.switches.front().t,
+               r.switches.front().from, r.switches.front().to);
+  if (c.projections > 0)
+    fmt::print("  projections   {} (each restarts IDA at order 1)\n", c.projections);
+  if (c.restarts > 0) fmt::print("  restarts      {} IDAReInit calls\n", c.restarts);
+  fmt::print("  outputs       {}/ (steps.csv, trajectory.csv, events.csv, summary.json)\n", o.out_dir.string());
+}
+
+}  // namespace
+
+int solve_command(const std::vector<std::string>& args) {
+  std::string scene_path, out_arg;
+  bool quiet = false;
+  std::vector<std::pair<std::string, std::string>> overrides;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= args.size()) throw InputError(fmt::format("option {} needs a value (see rigidae --help)", a));
+      return args[++i];
+    };
+    bool takes_value = false;
+    if (a == "--quiet") quiet = true;
+    else if (a == "--out") out_arg = value();
+    else if (is_scene_option(a, takes_value)) overrides.emplace_back(a, takes_value ? value() : "");
+    else if (a.rfind("--", 0) == 0) throw InputError(fmt::format("unknown option '{}' for solve; see rigidae --help", a));
+    else if (scene_path.empty()) scene_path = a;
+    else throw InputError(fmt::format("unexpected argument '{}': solve takes one scene file", a));
+  }
+  if (scene_path.empty()) throw InputError("solve needs a scene file: rigidae solve SCENE.toml");
+  Scene scene = io::load_scene(scene_path);
+  for (const auto& [opt, text] : overrides) apply_scene_option(scene, opt, text);
+
+  const std::filesystem::path out =
+      out_arg.empty() ? std::filesystem::path("out") / default_run_name(scene) : std::filesystem::path(out_arg);
+  const SolveOutcome o = solve_scene(scene, out);
+  if (!quiet || o.run.status != RunStatus::Success) print_report(scene, o);
+  if (o.run.status != RunStatus::Success) {
+    fmt::print(stderr, "rigidae: error: {}\n", o.run.message);
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace rigidae::cli

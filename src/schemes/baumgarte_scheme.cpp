@@ -1,0 +1,71 @@
+// Baumgarte (1972): index 1 with feedback on the drift.
+//
+// Force kind (Lagrange form): the acceleration level with the constraint's
+// own error fed back,
+//   q' = v,  M v' = f - G^T lambda,  G v' = gamma - 2 a G v - b^2 Phi,
+// so that Phi'' + 2 a Phi' + b^2 Phi = 0: drift decays instead of growing.
+// Kinematic kind (Euler form): the constraint is first order in time here
+// (its velocity level is kept by the kinematics), so the feedback is
+//   q' = N v - Phi_q^T mu,  M v' = f,  Phi_q q' = -a Phi,
+// i.e. Phi' + a Phi = 0, the decay rate of the critically damped law above.
+#include <fmt/format.h>
+
+#include "factories.hpp"
+#include "scheme_rows.hpp"
+
+namespace rigidae::schemes {
+
+namespace {
+
+class BaumgarteScheme final : public ConstraintScheme {
+ public:
+  BaumgarteScheme(double a, double b) : a_(a), b_(b) {}
+
+  std::string name() const override { return "baumgarte"; }
+  UnknownLayout layout(const Representation& rep) const override {
+    const bool force = rep.constraint_kind() == ConstraintKind::Force;
+    return {rep.nq(), rep.nv(), force ? rep.nc() : 0, force ? 0 : rep.nc()};
+  }
+  bool suppress_multiplier_error_test() const override { return true; }
+  std::string note(const Representation& rep) const override {
+    if (rep.nc() == 0) return ConstraintScheme::note(rep);
+    if (rep.constraint_kind() == ConstraintKind::Kinematic)
+      return fmt::format("first-order feedback Phi' + a Phi = 0 with a = {:g} 1/s (b is not used in the Euler form)",
+                         a_);
+    return fmt::format("feedback Phi'' + 2 a Phi' + b^2 Phi = 0 with a = {:g} 1/s, b = {:g} 1/s", a_, b_);
+  }
+
+  void residual(const StandardTerms& t, const UnknownLayout& lay, const ConstVecRef& y, const ConstVecRef& yp,
+                VecRef F) const override {
+    kinematic_rows(t, lay, y, yp, F);
+    dynamic_rows(t, lay, y, yp, F);
+    if (lay.n_lambda > 0) {
+      auto rows = F.segment(lay.lambda_offset(), lay.n_lambda);
+      acceleration_level_rows(t, lay, yp, rows);
+      rows.noalias() += (2.0 * a_) * (t.G * y.segment(lay.v_offset(), lay.nv));
+      rows += (b_ * b_) * t.phi;
+    } else if (lay.n_mu > 0) {
+      auto rows = F.segment(lay.mu_offset(), lay.n_mu);
+      velocity_level_rows(t, lay, y, yp, rows);
+      rows += a_ * t.phi;
+    }
+  }
+
+ protected:
+  VecC acceleration_target(const StandardTerms& t, const ConstVecRef& v) const override {
+    return t.gamma - (2.0 * a_) * (t.G * v) - (b_ * b_) * t.phi;
+  }
+  VecC rate_target(const StandardTerms& t) const override { return -a_ * t.phi; }
+
+ private:
+  double a_, b_;
+};
+
+}  // namespace
+
+std::unique_ptr<ConstraintScheme> make_baumgarte(const Scene& scene) {
+  const auto [a, b] = baumgarte_gains(scene);
+  return std::make_unique<BaumgarteScheme>(a, b);
+}
+
+}  // namespace rigidae::schemes

@@ -1,0 +1,50 @@
+// Index 3: the position constraint as it is.
+//
+// Force kind (Lagrange form):  q' = v,  M v' = f - G^T lambda,  Phi(q) = 0.
+// lambda is index 3 and v index 2. BDF converges on such systems only if
+// both leave the error test (Brenan, Campbell & Petzold, ch. 3), and the
+// iteration matrix has condition ~ 1/h^3, so Newton fails once h is small:
+// at tight tolerances this scheme is expected to fail, and reports so.
+// Kinematic kind (Euler form): the constraint enters through the
+// kinematics, q' = N v - Phi_q^T mu, Phi(q) = 0: one differentiation fixes
+// mu, so the system is index 2, with the same rows as ggl.
+#include "factories.hpp"
+#include "scheme_rows.hpp"
+
+namespace rigidae::schemes {
+
+namespace {
+
+class Index3Scheme final : public ConstraintScheme {
+ public:
+  std::string name() const override { return "index3"; }
+  UnknownLayout layout(const Representation& rep) const override {
+    const bool force = rep.constraint_kind() == ConstraintKind::Force;
+    return {rep.nq(), rep.nv(), force ? rep.nc() : 0, force ? 0 : rep.nc()};
+  }
+  bool suppress_multiplier_error_test() const override { return true; }
+  bool suppress_velocity_error_test(const Representation& rep) const override {
+    return rep.constraint_kind() == ConstraintKind::Force;
+  }
+  std::string note(const Representation& rep) const override {
+    if (rep.nc() == 0) return ConstraintScheme::note(rep);
+    if (rep.constraint_kind() == ConstraintKind::Kinematic)
+      return "in the Euler form the position constraint acts through the kinematics (q' = N v - Phi_q^T mu): "
+             "the system is index 2, with the same rows as ggl";
+    return "index 3: v (index 2) and lambda (index 3) are left out of IDA's error test; the iteration matrix "
+           "has condition ~1/h^3, so Newton may fail at small steps";
+  }
+
+  void residual(const StandardTerms& t, const UnknownLayout& lay, const ConstVecRef& y, const ConstVecRef& yp,
+                VecRef F) const override {
+    kinematic_rows(t, lay, y, yp, F);
+    dynamic_rows(t, lay, y, yp, F);
+    if (lay.n_lambda + lay.n_mu > 0) position_level_rows(t, constraint_rows(lay, F));
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<ConstraintScheme> make_index3(const Scene& /*scene*/) { return std::make_unique<Index3Scheme>(); }
+
+}  // namespace rigidae::schemes

@@ -1,0 +1,61 @@
+// Projection: a drifting index-1 form whose state the driver maps back onto
+// the constraint manifold, then hands back to IDA (IDAReInit).
+//
+// Rows: those of index1 (Force kind: G v' = gamma; Kinematic kind: the ODE
+// q' = N v, M v' = f). After a step whose drift passes the threshold (or
+// after every step), the driver projects:
+//   q onto the manifold (normalised quaternion, polar factor of R), then
+//   v onto G(q) v = 0 in the metric of M (Force kind; the least change of
+//   kinetic energy), and restarts IDA from the projected, consistent state.
+// The restart is the hidden cost: IDA forgets its history and begins again
+// at order 1, which shows in the steps and the restart counter.
+#include <fmt/format.h>
+
+#include "factories.hpp"
+#include "scheme_rows.hpp"
+
+namespace rigidae::schemes {
+
+namespace {
+
+class ProjectionScheme final : public ConstraintScheme {
+ public:
+  explicit ProjectionScheme(const ProjectionPolicy& p) : policy_(p) {}
+
+  std::string name() const override { return "projection"; }
+  UnknownLayout layout(const Representation& rep) const override {
+    const bool force = rep.constraint_kind() == ConstraintKind::Force;
+    return {rep.nq(), rep.nv(), force ? rep.nc() : 0, 0};
+  }
+  bool suppress_multiplier_error_test() const override { return true; }
+  ProjectionPolicy projection() const override { return policy_; }
+  std::string note(const Representation& rep) const override {
+    if (rep.nc() == 0) return ConstraintScheme::note(rep);
+    const std::string when = policy_.every_step ? "after every step"
+                                                : fmt::format("when the drift exceeds {:g}", policy_.threshold);
+    return "index-1 rows; the state is projected onto the manifold " + when + " and IDA restarts at order 1";
+  }
+
+  void residual(const StandardTerms& t, const UnknownLayout& lay, const ConstVecRef& y, const ConstVecRef& yp,
+                VecRef F) const override {
+    kinematic_rows(t, lay, y, yp, F);
+    dynamic_rows(t, lay, y, yp, F);
+    if (lay.n_lambda > 0) acceleration_level_rows(t, lay, yp, F.segment(lay.lambda_offset(), lay.n_lambda));
+  }
+
+ private:
+  ProjectionPolicy policy_;
+};
+
+}  // namespace
+
+std::unique_ptr<ConstraintScheme> make_projection(const Scene& scene) {
+  const ProjectionSpec& spec = scene.formulation.projection;
+  ProjectionPolicy p;
+  p.enabled = true;
+  p.every_step = spec.every_step;
+  p.threshold = projection_threshold(scene);
+  return std::make_unique<ProjectionScheme>(p);
+}
+
+}  // namespace rigidae::schemes

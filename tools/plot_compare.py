@@ -1,0 +1,856 @@
+#!/usr/bin/python3
+"""Figures for a `rigidae compare` folder: how each constraint scheme behaves in
+each coordinate representation and equation form.
+
+Usage:
+    /usr/bin/python3 tools/plot_compare.py DIR [--out FIGDIR] [--bins N] [--quiet]
+
+DIR is the folder written by `rigidae compare SCENE --out DIR`. Every subfolder
+of DIR holding a summary.json is one run; `reference/` is the reference run,
+drawn (black dotted) only in the panel of its own representation. compare.csv
+is used, if present, only for the scene name. The figures go to DIR/figures/
+(or FIGDIR) and their paths are printed. Panels are always laid out with one
+row per coordinates (euler, quaternion, linear) and one column per equation
+form (lagrange, euler); one line per scheme:
+
+  drift_position.png  |Phi(q)| at every IDA step against t, log axis, one panel
+                      per constrained representation (2 x 2).
+  drift_velocity.png  the same for the velocity level |dPhi/dt| (1/s).
+  multipliers.png     the Euclidean norm of the lambda_* columns (generalized
+                      constraint force, J) and of the mu_* columns (kinematic
+                      multiplier, 1/s); columns: lagrange-lambda, lagrange-mu,
+                      euler-mu (whichever exist). A column is drawn on a log
+                      axis when its values span more than two decades,
+                      otherwise on a linear one.
+  energy_error.png    |relative energy error| against t, log axis, all six
+                      representations (3 x 2), Euler-angle chart switches
+                      (events.csv) as ticks on the time axis.
+  summary.png         per run: max |Phi| and max |energy error| (summary.json)
+                      against IDA steps; colour: scheme, marker: coordinates,
+                      filled/open: lagrange/euler form.
+
+Each known scheme has a fixed colour and line style (ggl, index1, index2,
+index3, baumgarte, projection; others get the next free style), so that the
+figures of different compare folders are comparable. The Euler-angle
+coordinates have no constraints: they appear in energy_error.png and
+summary.png only. A failed or interrupted run is drawn as far as its steps.csv
+goes (a half-written last line is skipped), ends in an X marker, and its panel
+says in red where and why it stopped. Long runs are decimated per time bin
+(--bins): the largest value per bin on log axes, the smallest and largest on
+linear ones, so isolated spikes stay visible. A log axis starts a little under
+the 0.5th percentile of its positive values (never under 1e-17); smaller
+values and exact zeros are drawn on the bottom edge, as the subtitle says.
+
+Exit codes: 0 figures written, 2 DIR is not a compare folder (no run folders)
+or a bad command line. Needs numpy and matplotlib (Debian's /usr/bin/python3).
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import re
+import sys
+import warnings
+
+import numpy as np
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker as mticker  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+
+FLOOR = 1e-17  # log axes never reach below this (zeros and underflow are drawn at the axis bottom)
+DPI = 120
+
+COORD_ORDER = ["euler", "quaternion", "linear"]
+EQ_ORDER = ["lagrange", "euler"]
+SCHEME_STYLE = {  # fixed across figures and compare folders
+    "ggl": ("#1f77b4", "-"),
+    "index1": ("#ff7f0e", (0, (5, 2))),
+    "index2": ("#2ca02c", (0, (6, 2, 1, 2))),
+    "index3": ("#d62728", (0, (1.5, 1.5))),
+    "baumgarte": ("#9467bd", "-"),
+    "projection": ("#8c564b", (0, (5, 2))),
+}
+EXTRA_STYLES = [("#e377c2", "-"), ("#bcbd22", (0, (5, 2))), ("#17becf", (0, (6, 2, 1, 2))),
+                ("#7f7f7f", (0, (1.5, 1.5))), ("#ff9896", "-"), ("#98df8a", (0, (5, 2)))]
+REF_STYLE = dict(color="black", linestyle=(0, (1, 1.5)), linewidth=1.0, alpha=0.8, zorder=1)
+COORD_MARKER = {"euler": "^", "quaternion": "o", "linear": "s"}
+EXTRA_MARKERS = ["D", "v", "P", "h", "<", ">"]
+
+QUANTITY = {  # key -> (y label, short description)
+    "drift_position": ("|Φ(q)|  (dimensionless)", "position-level constraint drift |Φ(q)|"),
+    "drift_velocity": ("|dΦ/dt|  (1/s)", "velocity-level constraint drift |dΦ/dt|"),
+    "energy_rel_error": ("|H − H₀| / |H₀|  (dimensionless)", "relative energy error"),
+    "lambda": ("‖λ‖  (J)", "force multipliers λ (generalized constraint force)"),
+    "mu": ("‖μ‖  (1/s)", "kinematic multipliers μ"),
+}
+
+
+# ----------------------------------------------------------------------------
+# Reading
+
+
+def fmt_num(x):
+    """1e-08 -> 1e-8, 0.049109 -> 0.0491."""
+    if x is None:
+        return "?"
+    try:
+        x = float(x)
+    except (TypeError, ValueError):
+        return str(x)
+    s = f"{x:.3g}"
+    return re.sub(r"e([+-])0*(\d)", lambda m: "e" + ("-" if m.group(1) == "-" else "") + m.group(2), s)
+
+
+def order_key(order):
+    return lambda name: (order.index(name) if name in order else len(order), name)
+
+
+def read_json(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return {}
+
+
+def run_identity(folder, summary):
+    """(coordinates, equations, scheme) from summary.json, falling back on the folder name."""
+    form = (summary.get("configuration") or {}).get("formulation") or {}
+    coords, eqs, scheme = form.get("coordinates"), form.get("equations"), form.get("scheme")
+    rep = summary.get("representation")
+    if (not coords or not eqs) and isinstance(rep, str) and "/" in rep:
+        coords, eqs = rep.split("/", 1)
+    scheme = scheme or summary.get("scheme")
+    if not (coords and eqs and scheme):
+        parts = os.path.basename(folder).split("-")
+        if len(parts) >= 3:
+            coords, eqs, scheme = coords or parts[0], eqs or parts[1], scheme or "-".join(parts[2:])
+    return coords or "?", eqs or "?", scheme or "?"
+
+
+def parse_rows_slowly(path, skip, usecols, ncols):
+    """Fallback for a damaged steps.csv (e.g. a half-written last line): keep the rows that parse."""
+    rows = []
+    with open(path, errors="replace") as f:
+        for _ in range(skip):
+            f.readline()
+        for line in f:
+            fields = line.rstrip("\r\n").split(",")
+            if len(fields) < ncols:
+                continue
+            try:
+                rows.append([float(fields[i]) for i in usecols])
+            except ValueError:
+                continue
+    return np.array(rows, dtype=float).reshape(-1, len(usecols))
+
+
+def read_steps(path):
+    """Columns of steps.csv needed here, as a dict name -> float array (empty arrays if no rows)."""
+    try:
+        with open(path, errors="replace") as f:
+            first = f.readline()
+            skip = 1
+            header = first
+            if first.startswith("#"):
+                header = f.readline()
+                skip = 2
+    except OSError:
+        return {}
+    names = [h.strip() for h in header.strip().split(",")] if header.strip() else []
+    want = [i for i, n in enumerate(names)
+            if n in ("t", "drift_position", "drift_velocity", "energy_rel_error")
+            or n.startswith("lambda_") or n.startswith("mu_")]
+    if not names or names[0] != "t" or not want:
+        return {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # "empty input file"
+        try:
+            a = np.loadtxt(path, delimiter=",", skiprows=skip, usecols=want, ndmin=2, comments="#")
+        except (ValueError, IndexError):
+            # a run killed while writing leaves a partial last line: drop it, else parse row by row
+            try:
+                with open(path, "rb") as f:
+                    n_lines = sum(1 for _ in f)
+                a = np.loadtxt(path, delimiter=",", skiprows=skip, usecols=want, ndmin=2, comments="#",
+                               max_rows=max(0, n_lines - skip - 1))
+            except (ValueError, IndexError):
+                a = parse_rows_slowly(path, skip, want, max(want) + 1)
+    if a.size == 0:
+        a = np.zeros((0, len(want)))
+    return {names[i]: a[:, k] for k, i in enumerate(want)}
+
+
+def read_events(path):
+    """Times of the chart switches in events.csv (empty if none or no file)."""
+    times = []
+    try:
+        with open(path, newline="", errors="replace") as f:
+            rows = csv.DictReader(line for line in f if not line.startswith("#"))
+            for row in rows:
+                if (row.get("event") or "") == "chart_switch":
+                    try:
+                        times.append(float(row["t"]))
+                    except (KeyError, TypeError, ValueError):
+                        pass
+    except (OSError, csv.Error):
+        pass
+    return times
+
+
+def decimate(t, y, nbins, mode):
+    """Subsample (t, y) to about nbins time bins, keeping per bin the largest value
+    (mode "max", for non-negative data on log axes) or the smallest and the largest
+    (mode "minmax", for linear axes); the first and last samples are always kept."""
+    n = t.size
+    if n <= 2 * nbins or not (t[-1] > t[0]):
+        return t, y
+    b = np.minimum(((t - t[0]) * (nbins / (t[-1] - t[0]))).astype(np.int64), nbins - 1)
+    starts = np.flatnonzero(np.r_[True, b[1:] != b[:-1]])
+    lengths = np.diff(np.r_[starts, n])
+    idx = np.arange(n)
+    yy = np.where(np.isnan(y), -np.inf, y)
+    hi = np.repeat(np.maximum.reduceat(yy, starts), lengths)
+    keep = [np.minimum.reduceat(np.where(yy == hi, idx, n), starts)]
+    if mode == "minmax":
+        yl = np.where(np.isnan(y), np.inf, y)
+        lo = np.repeat(np.minimum.reduceat(yl, starts), lengths)
+        keep.append(np.minimum.reduceat(np.where(yl == lo, idx, n), starts))
+    keep = np.unique(np.concatenate(keep + [np.array([0, n - 1])]))
+    keep = keep[keep < n]
+    return t[keep], y[keep]
+
+
+def load_series(args):
+    """Worker: read one run's steps.csv and return its decimated series (small arrays only)."""
+    folder, nbins = args
+    cols = read_steps(os.path.join(folder, "steps.csv"))
+    out = {"n_rows": 0, "series": {}, "stats": {}, "last": {}, "columns": sorted(cols),
+           "chart_switches": read_events(os.path.join(folder, "events.csv"))}
+    if not cols or "t" not in cols:
+        return out
+    t = cols["t"]
+    out["n_rows"] = int(t.size)
+    if t.size == 0:
+        return out
+    if np.any(np.diff(t) < 0):
+        order = np.argsort(t, kind="stable")
+        t = t[order]
+        cols = {k: v[order] for k, v in cols.items()}
+    derived = {}
+    for key in ("drift_position", "drift_velocity", "energy_rel_error"):
+        if key in cols:
+            derived[key] = np.abs(cols[key])
+    for kind in ("lambda", "mu"):
+        names = [k for k in cols if k.startswith(kind + "_")]
+        if names:
+            derived[kind] = np.sqrt(sum(cols[k] ** 2 for k in names))
+    for key, y in derived.items():
+        finite = y[np.isfinite(y)]
+        pos = finite[finite > 0]
+        out["stats"][key] = {
+            "max": float(finite.max()) if finite.size else float("nan"),
+            "p1_pos": float(np.percentile(pos, 1)) if pos.size else float("nan"),
+        }
+        modes = ("max", "minmax") if key in ("lambda", "mu") else ("max",)
+        out["series"][key] = {m: decimate(t, y, nbins, m) for m in modes}
+        out["last"][key] = (float(t[-1]), float(y[-1]))
+    out["t_last"] = float(t[-1])
+    return out
+
+
+class Run:
+    def __init__(self, folder, summary, is_reference):
+        self.folder = folder
+        self.name = os.path.basename(folder)
+        self.summary = summary
+        self.is_reference = is_reference
+        self.coords, self.eqs, self.scheme = run_identity(folder, summary)
+        self.rep = f"{self.coords}/{self.eqs}"
+        self.status = summary.get("status", "unknown")
+        self.data = None
+        conf = summary.get("configuration") or {}
+        self.solver = conf.get("solver") or {}
+        self.time = conf.get("time_s") or {}
+        self.scene = conf.get("name")
+
+    @property
+    def failed(self):
+        return self.status != "success"
+
+    def t_stop(self):
+        t = self.summary.get("t_reached")
+        if t is None:
+            t = (self.summary.get("final") or {}).get("t")
+        if t is None and self.data:
+            t = self.data.get("t_last")
+        return t
+
+    def has_steps(self):
+        return bool(self.data and self.data.get("n_rows"))
+
+    def has_columns(self, kind):
+        return any(c.startswith(kind + "_") for c in (self.data or {}).get("columns", []))
+
+    def status_note(self):
+        """E.g. 'failed at t = 0.688 s (too much work)'; '' for a successful run."""
+        if not self.failed:
+            return ""
+        t = self.t_stop()
+        note = self.status + (f" at t = {fmt_num(t)} s" if t is not None else "")
+        reason = (self.summary.get("message") or "").split(":")[0].strip()
+        if reason:
+            note += f" ({reason[:37] + '...' if len(reason) > 40 else reason})"
+        if not self.has_steps():
+            note += ", no steps recorded"
+        return note
+
+    def steps(self):
+        n = (self.summary.get("counters") or {}).get("steps")
+        return n if n is not None else (self.data or {}).get("n_rows")
+
+    def maximum(self, key):
+        v = (self.summary.get("maxima") or {}).get({"energy_rel_error": "abs_energy_rel_error"}.get(key, key))
+        if v is None and self.data and key in self.data["stats"]:
+            v = self.data["stats"][key]["max"]
+        return v
+
+
+def discover(root):
+    runs = []
+    for entry in sorted(os.listdir(root)):
+        folder = os.path.join(root, entry)
+        if os.path.isdir(folder) and os.path.isfile(os.path.join(folder, "summary.json")):
+            runs.append(Run(folder, read_json(os.path.join(folder, "summary.json")), entry == "reference"))
+    return runs
+
+
+def load_all(runs, nbins):
+    jobs = [(r.folder, nbins) for r in runs]
+    results = None
+    workers = min(len(jobs), os.cpu_count() or 1)
+    if workers > 1:
+        try:
+            import concurrent.futures as cf
+            import multiprocessing as mp
+            with cf.ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context("fork")) as ex:
+                results = list(ex.map(load_series, jobs))
+        except Exception:  # no fork / no /dev/shm: read them one after the other
+            results = None
+    if results is None:
+        results = [load_series(j) for j in jobs]
+    for r, d in zip(runs, results):
+        r.data = d
+
+
+def scene_name(root, runs):
+    path = os.path.join(root, "compare.csv")
+    try:
+        with open(path, newline="") as f:
+            row = next(csv.DictReader(line for line in f if not line.startswith("#")), None)
+        if row:
+            for key in ("scene_name", "scene", "name"):
+                if row.get(key):
+                    return os.path.splitext(os.path.basename(row[key]))[0]
+    except (OSError, csv.Error):
+        pass
+    names = [r.scene for r in runs if r.scene]
+    return names[0] if names else os.path.basename(os.path.abspath(root))
+
+
+def tolerance_text(runs):
+    def one(key):
+        vals = sorted({r.solver.get(key) for r in runs if r.solver.get(key) is not None})
+        return "/".join(fmt_num(v) for v in vals) if vals else "?"
+    return f"rtol {one('rtol')}, atol {one('atol')}"
+
+
+# ----------------------------------------------------------------------------
+# Drawing
+
+
+class Styles:
+    def __init__(self, schemes):
+        self.order = sorted(schemes, key=order_key(list(SCHEME_STYLE)))
+        self.style = {}
+        extra = iter(EXTRA_STYLES * 10)
+        for s in self.order:
+            self.style[s] = SCHEME_STYLE.get(s) or next(extra)
+
+    def kw(self, scheme):
+        color, ls = self.style[scheme]
+        return dict(color=color, linestyle=ls, linewidth=1.2, alpha=0.9, zorder=3)
+
+
+class Context:
+    def __init__(self, root, runs, outdir, nbins):
+        self.root, self.outdir, self.nbins = root, outdir, nbins
+        self.runs = [r for r in runs if not r.is_reference]
+        refs = [r for r in runs if r.is_reference]
+        self.ref = refs[0] if refs else None
+        self.styles = Styles({r.scheme for r in self.runs})
+        self.scene = scene_name(root, runs)
+        self.tol = tolerance_text(self.runs)
+        self.coords = sorted({r.coords for r in self.runs}, key=order_key(COORD_ORDER))
+        self.eqs = sorted({r.eqs for r in self.runs}, key=order_key(EQ_ORDER))
+        starts = [r.time.get("start") for r in runs if r.time.get("start") is not None]
+        ends = [r.time.get("end") for r in runs if r.time.get("end") is not None]
+        t_last = [r.data.get("t_last") for r in runs if r.data and r.data.get("t_last") is not None]
+        self.t0 = min(starts) if starts else (min(t_last) if t_last else 0.0)
+        self.t1 = max(ends) if ends else (max(t_last) if t_last else 1.0)
+        if not self.t1 > self.t0:
+            self.t1 = self.t0 + 1.0
+        self.constrained = [c for c in self.coords if self.has_constraints(c)]
+        self.n_failed = sum(r.failed for r in self.runs)
+
+    def has_constraints(self, coords):
+        for r in self.runs:
+            if r.coords != coords or not r.data:
+                continue
+            if r.has_columns("lambda") or r.has_columns("mu"):
+                return True
+            st = r.data["stats"]
+            if any(st.get(k, {}).get("max", 0) > 0 for k in ("drift_position", "drift_velocity")):
+                return True
+        return False
+
+    def runs_of(self, coords, eqs):
+        rs = [r for r in self.runs if r.coords == coords and r.eqs == eqs]
+        return sorted(rs, key=lambda r: (order_key(self.styles.order)(r.scheme), r.name))
+
+    def subtitle(self, extra=""):
+        n = len(self.runs)
+        failed = f", {self.n_failed} failed or interrupted" if self.n_failed else ""
+        ref = ""
+        if self.ref is not None:
+            ref = f"; reference run {self.ref.rep}/{self.ref.scheme} at rtol {fmt_num(self.ref.solver.get('rtol'))}"
+            if self.ref.failed:
+                ref += f" ({self.ref.status_note()})"
+        return f"{self.tol}; {n} runs{failed}{ref}" + (f"\n{extra}" if extra else "")
+
+
+def new_figure(nrows, ncols, panel_w=6.0, panel_h=3.3, sharex=True, sharey=False):
+    """A grid of panels of a fixed size in inches; finish_figure sizes the margins around them."""
+    fig, axes = plt.subplots(nrows, ncols, figsize=(panel_w * ncols + 2, panel_h * nrows + 2),
+                             squeeze=False, sharex=sharex, sharey=sharey)
+    fig.rigidae_layout = dict(axes=axes, panel_w=panel_w, panel_h=panel_h, sharey=sharey)
+    return fig, axes
+
+
+def legend_columns(handles, fig_w, fontsize=10):
+    """Most legend columns whose estimated width fits the figure (entries fill columns first)."""
+    char_w = 0.55 * fontsize / 72  # inches per character, roughly
+    widths = [0.5 + 0.2 + char_w * len(h.get_label()) for h in handles]  # handle + spacing + text
+    for ncol in range(len(handles), 1, -1):
+        rows = math.ceil(len(handles) / ncol)
+        cols = [max(widths[k * rows:(k + 1) * rows], default=0) for k in range(ncol)]
+        if sum(cols) + 0.25 * (ncol - 1) < 0.95 * fig_w:
+            return math.ceil(len(handles) / rows)  # same number of rows, columns balanced
+    return 1
+
+
+def finish_figure(fig, title, subtitle, handles, path):
+    """Place the panels with fixed margins in inches (title and subtitle above, panel titles and
+    failure notes above each row, one shared legend below), then save. Explicit margins instead
+    of tight_layout: as readable, and half the time."""
+    lay = fig.rigidae_layout
+    axes, pw, ph = lay["axes"], lay["panel_w"], lay["panel_h"]
+    nrows, ncols = axes.shape
+    n_sub = subtitle.count("\n") + 1 if subtitle else 0
+    left, right, col_gap = 0.95, 0.3, (0.5 if lay["sharey"] else 0.95)
+    above = [0.36 + 0.155 * max(getattr(ax, "rigidae_notes", 0) for ax in axes[i]) for i in range(nrows)]
+    below_row, below_last = 0.3, 0.55
+    head = 0.5 + 0.19 * n_sub
+    fig_w = left + right + ncols * pw + (ncols - 1) * col_gap
+    ncol = legend_columns(handles, fig_w) if handles else 1
+    legend_rows = math.ceil(len(handles) / ncol) if handles else 0
+    foot = 0.12 + 0.25 * legend_rows
+    fig_h = head + sum(above) + nrows * ph + (nrows - 1) * below_row + below_last + foot
+    fig.set_size_inches(fig_w, fig_h)
+    y = fig_h - head
+    for i in range(nrows):
+        y -= above[i] + ph
+        for j in range(ncols):
+            x = left + j * (pw + col_gap)
+            axes[i, j].set_position([x / fig_w, y / fig_h, pw / fig_w, ph / fig_h])
+        y -= below_row
+    fig.text(0.5, 1 - 0.12 / fig_h, title, ha="center", va="top", fontsize=14, fontweight="bold")
+    if subtitle:
+        fig.text(0.5, 1 - 0.44 / fig_h, subtitle, ha="center", va="top", fontsize=10, color="0.25",
+                 linespacing=1.35)
+    if handles:
+        fig.legend(handles=handles, loc="lower center", ncol=ncol, fontsize=10, frameon=False,
+                   bbox_to_anchor=(0.5, 0.04 / fig_h), handlelength=3.0, columnspacing=1.8)
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return path
+
+
+def legend_handles(ctx, schemes, with_ref=False, with_fail=False, with_switch=False):
+    hs = [Line2D([], [], label=s, **ctx.styles.kw(s)) for s in ctx.styles.order if s in schemes]
+    if with_ref and ctx.ref is not None:
+        hs.append(Line2D([], [], label=f"reference ({ctx.ref.rep}/{ctx.ref.scheme}, "
+                         f"rtol {fmt_num(ctx.ref.solver.get('rtol'))})", **REF_STYLE))
+    if with_fail:
+        hs.append(Line2D([], [], marker="X", color="0.5", markeredgecolor="black", markersize=10,
+                         linestyle="none", label="run failed / interrupted here"))
+    if with_switch:
+        hs.append(Line2D([], [], marker="|", color="0.3", markersize=12, markeredgewidth=1.5,
+                         linestyle="none", label="Euler-angle chart switch"))
+    return hs
+
+
+def style_axis(ax, ylabel, log, ctx, show_xlabel):
+    ax.set_xlim(ctx.t0, ctx.t1)
+    if log:
+        ax.set_yscale("log")
+        ax.yaxis.set_major_locator(mticker.LogLocator(base=10, numticks=8))
+        ax.yaxis.set_minor_locator(mticker.NullLocator())  # decades apart: minor ticks are noise (and slow)
+    else:
+        fmt = mticker.ScalarFormatter(useOffset=False)
+        fmt.set_powerlimits((-3, 5))
+        ax.yaxis.set_major_formatter(fmt)
+    if getattr(ax, "rigidae_empty", False):
+        ax.grid(False)
+    else:
+        ax.grid(True, which="major", alpha=0.35)
+    if ylabel:
+        ax.set_ylabel(ylabel, fontsize=10.5)
+    if show_xlabel:
+        ax.set_xlabel("t  (s)", fontsize=10.5)
+    ax.tick_params(labelsize=9.5, labelbottom=True)
+
+
+def panel_title(ax, label, notes):
+    """Bold panel label; the failure notes (red, small) between it and the axes."""
+    size = 9
+    if notes:
+        ax.annotate("\n".join(notes), xy=(0, 1), xycoords="axes fraction", xytext=(0, 3),
+                    textcoords="offset points", ha="left", va="bottom", fontsize=size, color="#b00000")
+    pad = 6 + (len(notes) * size * 1.25 if notes else 0)
+    ax.rigidae_notes = len(notes)
+    ax.set_title(label, fontsize=12, fontweight="bold", loc="left", pad=pad)
+
+
+def empty_panel(ax, text):
+    ax.text(0.5, 0.5, text, transform=ax.transAxes, ha="center", va="center", fontsize=11, color="0.45")
+    ax.tick_params(axis="y", left=False, labelleft=False)
+    ax.rigidae_empty = True
+
+
+def series(run, key, mode="max"):
+    s = run.data["series"].get(key) if run and run.data else None
+    return s[mode] if s else None
+
+
+def draw_line(ax, run, key, mode, kw, floor=None):
+    """Draw one run's decimated series; values below `floor` at the floor; X where a failed run stops."""
+    ty = series(run, key, mode)
+    if ty is None:
+        return False
+    t, y = ty
+    if floor is not None:
+        y = np.where(np.isnan(y), np.nan, np.maximum(y, floor))
+    if t.size == 1:
+        ax.plot(t, y, marker="o", markersize=4, **kw)
+    else:
+        ax.plot(t, y, **kw)
+    if run.failed and not run.is_reference:
+        tl, yl = run.data["last"][key]
+        if floor is not None and np.isfinite(yl):
+            yl = max(yl, floor)
+        ax.plot([tl], [yl], marker="X", markersize=11, color=kw["color"], markeredgecolor="black",
+                linestyle="none", zorder=6, clip_on=False)
+    return True
+
+
+def log_range(arrays, robust=True):
+    """(bottom, top, clipped) of a log axis for non-negative series. The bottom is set under
+    the 0.5th percentile of the positive values (the smallest if not `robust`; never under FLOOR),
+    so exact zeros, underflow and isolated dips do not stretch the axis: they are drawn at the
+    bottom (`clipped`)."""
+    vals = [a[np.isfinite(a)] for a in arrays if a is not None and a.size]
+    v = np.concatenate(vals) if vals else np.zeros(0)
+    pos = v[v > 0]
+    if pos.size == 0:
+        return FLOOR, 1.0, bool(v.size)
+    lo = max(float(np.percentile(pos, 0.5) if robust else pos.min()), FLOOR)
+    hi = max(float(pos.max()), lo)
+    bottom = max(FLOOR, 10.0 ** math.floor(math.log10(lo) - 0.3))
+    top = 10.0 ** math.ceil(math.log10(hi) + 0.1)
+    if top / bottom < 1e3:
+        bottom = max(FLOOR, top / 1e3)
+    return bottom, top, bool(np.any(v < bottom))
+
+
+def clip_note(bottom):
+    return f"values below {fmt_num(bottom)} (incl. exact zeros) drawn at {fmt_num(bottom)}"
+
+
+def draw_chart_switches(ax, runs, ctx):
+    drawn = False
+    for r in runs:
+        ts = (r.data or {}).get("chart_switches") or []
+        if ts:
+            ax.vlines(ts, 0, 0.05, transform=ax.get_xaxis_transform(), colors="0.3", linewidth=1.5, zorder=4)
+            drawn = True
+    return drawn
+
+
+def failure_notes(runs):
+    return [f"{r.scheme}: {r.status_note()}" for r in runs if r.failed]
+
+
+def plot_per_representation(ctx, key, coords_list, filename, title, chart_switches=False):
+    """Log axis; panels: rows = coordinates, columns = equation forms; one line per scheme."""
+    coords_list = list(coords_list)
+    if not coords_list:
+        return None
+    fig, axes = new_figure(len(coords_list), len(ctx.eqs), sharey=True)
+    ref = ctx.ref if ctx.ref is not None and ctx.ref.coords in coords_list else None
+    arrays = [series(r, key)[1] for r in ctx.runs + ([ref] if ref else [])
+              if r.coords in coords_list and series(r, key) is not None]
+    bottom, top, clipped = log_range(arrays)
+    schemes, any_fail, ref_drawn, any_switch = set(), False, False, False
+    for i, c in enumerate(coords_list):
+        for j, e in enumerate(ctx.eqs):
+            ax = axes[i, j]
+            runs = ctx.runs_of(c, e)
+            drawn = 0
+            for r in runs:
+                if draw_line(ax, r, key, "max", ctx.styles.kw(r.scheme), bottom):
+                    drawn += 1
+                    schemes.add(r.scheme)
+            if ref is not None and ref.coords == c and ref.eqs == e:
+                ref_drawn |= draw_line(ax, ref, key, "max", REF_STYLE, bottom)
+            if chart_switches:
+                any_switch |= draw_chart_switches(ax, runs, ctx)
+            if not drawn:
+                empty_panel(ax, "no runs" if not runs else "no steps recorded")
+            notes = failure_notes(runs)
+            any_fail |= bool(notes)
+            panel_title(ax, f"{c} / {e}", notes)
+            style_axis(ax, QUANTITY[key][0] if j == 0 else None, True, ctx, i == len(coords_list) - 1)
+            ax.set_ylim(bottom, top)
+    note = f"largest value per time bin ({ctx.nbins} bins)"
+    if clipped:
+        note += "; " + clip_note(bottom)
+    omitted = [c for c in ctx.coords if c not in coords_list]
+    if omitted:
+        note += "; " + ", ".join(omitted) + " coordinates have no constraints (not shown)"
+    path = os.path.join(ctx.outdir, filename)
+    return finish_figure(fig, f"{ctx.scene}: {title}", ctx.subtitle(note),
+                         legend_handles(ctx, schemes, ref_drawn, any_fail, any_switch), path)
+
+
+def plot_multipliers(ctx):
+    """Panels: rows = constrained coordinates, columns = (equation form, multiplier kind) present."""
+    columns = []
+    for e in ctx.eqs:
+        for kind in ("lambda", "mu"):
+            if any(r.eqs == e and r.coords in ctx.constrained and series(r, kind) is not None for r in ctx.runs):
+                columns.append((e, kind))
+    if not ctx.constrained or not columns:
+        return None
+    fig, axes = new_figure(len(ctx.constrained), len(columns), panel_w=5.4)
+    schemes, any_fail, ref_drawn, any_clipped = set(), False, False, False
+    for j, (e, kind) in enumerate(columns):
+        # one scale per column (same kind and form): log if the values span more than two decades
+        stats = [r.data["stats"][kind] for c in ctx.constrained for r in ctx.runs_of(c, e)
+                 if series(r, kind) is not None]
+        hi = max((s["max"] for s in stats if np.isfinite(s["max"])), default=float("nan"))
+        lo = min((s["p1_pos"] for s in stats if np.isfinite(s["p1_pos"])), default=float("nan"))
+        log = bool(np.isfinite(hi) and hi > 0 and (not np.isfinite(lo) or hi / lo > 100))
+        mode = "max" if log else "minmax"
+        symbol = "λ" if kind == "lambda" else "μ"
+        for i, c in enumerate(ctx.constrained):
+            ax = axes[i, j]
+            runs = ctx.runs_of(c, e)
+            ref = ctx.ref if ctx.ref is not None and (ctx.ref.coords, ctx.ref.eqs) == (c, e) else None
+            bottom = None
+            if log:
+                bottom, top, clipped = log_range([series(r, kind)[1] for r in runs + ([ref] if ref else [])
+                                                  if series(r, kind) is not None])
+                any_clipped |= clipped
+            drawn = 0
+            for r in runs:
+                if draw_line(ax, r, kind, mode, ctx.styles.kw(r.scheme), bottom):
+                    drawn += 1
+                    schemes.add(r.scheme)
+            if ref is not None:
+                ref_drawn |= draw_line(ax, ref, kind, mode, REF_STYLE, bottom)
+            if not drawn:
+                if not runs:
+                    empty_panel(ax, "no runs")
+                elif any(r.has_columns(kind) for r in runs):
+                    empty_panel(ax, "no steps recorded")
+                else:
+                    empty_panel(ax, f"no {symbol} multipliers\n({', '.join(r.scheme for r in runs)})")
+            elif log:
+                ax.set_ylim(bottom, top)
+            notes = failure_notes(runs)
+            any_fail |= bool(notes)
+            panel_title(ax, f"{c} / {e}:  {symbol}", notes)
+            style_axis(ax, QUANTITY[kind][0], log, ctx, i == len(ctx.constrained) - 1)
+    note = ("‖λ‖, ‖μ‖: Euclidean norm over the lambda_* / mu_* columns; log axes: largest value per time bin, "
+            "linear axes: smallest and largest")
+    if any_clipped:
+        note += "; on log axes values below the bottom (incl. exact zeros) are drawn at the bottom"
+    path = os.path.join(ctx.outdir, "multipliers.png")
+    return finish_figure(fig, f"{ctx.scene}: constraint multipliers at every IDA step", ctx.subtitle(note),
+                         legend_handles(ctx, schemes, ref_drawn, any_fail), path)
+
+
+def steps_label(x, _pos=None):
+    if x >= 1e6:
+        return f"{x / 1e6:g}M"
+    if x >= 1e3:
+        return f"{x / 1e3:g}k"
+    return f"{x:g}"
+
+
+def plot_summary(ctx):
+    markers = dict(COORD_MARKER)
+    extra = iter(EXTRA_MARKERS * 10)
+    for c in ctx.coords:
+        if c not in markers:
+            markers[c] = next(extra)
+    # later schemes get smaller markers, so that coinciding points (the Euler-angle
+    # coordinates ignore the scheme) show as concentric rings
+    size = {s: max(5.0, 14.0 - 2.2 * k) for k, s in enumerate(ctx.styles.order)}
+    panels = [("drift_position", [r for r in ctx.runs if r.coords in ctx.constrained],
+               "max |Φ(q)|  (dimensionless)", "constraint drift against work"),
+              ("energy_rel_error", ctx.runs, "max |H − H₀| / |H₀|  (dimensionless)", "energy error against work")]
+    if not ctx.constrained:
+        panels = panels[1:]
+    fig, axes = new_figure(1, len(panels), panel_w=6.2, panel_h=4.4, sharex=False)
+    axes = axes[0]
+    any_fail, clipped = False, False
+    for ax, (key, runs, ylabel, title) in zip(axes, panels):
+        pts = []
+        for r in sorted(runs, key=lambda r: order_key(ctx.styles.order)(r.scheme)):
+            x, y = r.steps(), r.maximum(key)
+            if x is not None and y is not None and np.isfinite(y):
+                pts.append((r, x, y))
+        ref = ctx.ref
+        ref_pt = None
+        if pts and ref is not None and ref.steps() is not None and ref.maximum(key) is not None:
+            ref_pt = (ref.steps(), ref.maximum(key))
+        bottom, top, clip = log_range([np.array([p[2] for p in pts] + ([ref_pt[1]] if ref_pt else []), dtype=float)],
+                                      robust=False)
+        clipped |= clip
+        for r, x, y in pts:
+            color = ctx.styles.style[r.scheme][0]
+            filled = r.eqs == "lagrange"
+            ax.plot([x], [max(y, bottom)], marker=markers[r.coords], markersize=size[r.scheme], linestyle="none",
+                    markerfacecolor=color if filled else "white", markeredgecolor=color,
+                    markeredgewidth=2.0, zorder=3)
+            if r.failed:
+                any_fail = True
+                ax.plot([x], [max(y, bottom)], marker="x", markersize=15, color="black", markeredgewidth=1.5,
+                        zorder=4)
+        if ref_pt:
+            ax.plot([ref_pt[0]], [max(ref_pt[1], bottom)], marker="*", markersize=15, color="black",
+                    linestyle="none", zorder=3)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        if pts:
+            ax.set_ylim(bottom, top)
+            xs = [p[1] for p in pts] + ([ref_pt[0]] if ref_pt else [])
+            ax.set_xlim(min(xs) / 1.25, max(xs) * 1.25)
+        else:
+            empty_panel(ax, "no data")
+        ax.xaxis.set_major_locator(mticker.LogLocator(base=10, subs=(1.0, 2.0, 3.0, 5.0)))
+        ax.xaxis.set_major_formatter(mticker.FuncFormatter(steps_label))
+        ax.xaxis.set_minor_locator(mticker.NullLocator())
+        ax.yaxis.set_minor_locator(mticker.NullLocator())
+        ax.grid(True, which="major", alpha=0.35)
+        ax.set_xlabel("IDA steps  (summary.json counters.steps)", fontsize=10.5)
+        ax.set_ylabel(ylabel, fontsize=10.5)
+        ax.tick_params(labelsize=9.5)
+        ax.set_title(title, fontsize=12, fontweight="bold", loc="left")
+    handles = [Line2D([], [], color=ctx.styles.style[s][0], linewidth=6, label=s) for s in ctx.styles.order]
+    for c in ctx.coords:
+        handles.append(Line2D([], [], marker=markers[c], color="0.3", linestyle="none", markersize=9,
+                              label=f"{c} coordinates"))
+    handles.append(Line2D([], [], marker="p", markerfacecolor="0.3", markeredgecolor="0.3", linestyle="none",
+                          markersize=10, label="filled: lagrange form"))
+    handles.append(Line2D([], [], marker="p", markerfacecolor="white", markeredgecolor="0.3", markeredgewidth=2,
+                          linestyle="none", markersize=10, label="open: euler form"))
+    if ctx.ref is not None:
+        handles.append(Line2D([], [], marker="*", color="black", linestyle="none", markersize=13,
+                              label=f"reference ({ctx.ref.rep}/{ctx.ref.scheme}, "
+                                    f"rtol {fmt_num(ctx.ref.solver.get('rtol'))})"))
+    if any_fail:
+        handles.append(Line2D([], [], marker="x", color="black", linestyle="none", markersize=11,
+                              markeredgewidth=1.5, label="failed / interrupted (maxima up to the stop)"))
+    note = "maxima over the whole run (summary.json); coinciding points are drawn as concentric markers"
+    if clipped:
+        note += "; values below the axis bottom (incl. exact zeros) drawn at the bottom"
+    omitted = [c for c in ctx.coords if c not in ctx.constrained]
+    if omitted and ctx.constrained:
+        note += "\n" + ", ".join(omitted) + " coordinates have no constraints: left panel omits them"
+    path = os.path.join(ctx.outdir, "summary.png")
+    return finish_figure(fig, f"{ctx.scene}: accuracy against work per combination", ctx.subtitle(note),
+                         handles, path)
+
+
+# ----------------------------------------------------------------------------
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("dir", help="compare folder (written by 'rigidae compare SCENE --out DIR')")
+    ap.add_argument("--out", help="figure folder (default: DIR/figures)")
+    ap.add_argument("--bins", type=int, default=1000,
+                    help="time bins per line when decimating long runs (default 1000)")
+    ap.add_argument("--quiet", action="store_true", help="print nothing on success")
+    a = ap.parse_args(argv)
+
+    root = a.dir
+    if not os.path.isdir(root):
+        print(f"plot_compare: error: '{root}' is not a folder", file=sys.stderr)
+        return 2
+    runs = discover(root)
+    if not any(not r.is_reference for r in runs):
+        hint = (" (it is a single run folder; give the compare folder holding it)"
+                if os.path.isfile(os.path.join(root, "summary.json")) else "")
+        print(f"plot_compare: error: '{root}' is not a compare folder: no subfolder with a summary.json "
+              f"other than reference/{hint}; make one with 'rigidae compare SCENE --out DIR'", file=sys.stderr)
+        return 2
+    if a.bins < 10:
+        print("plot_compare: error: --bins must be at least 10", file=sys.stderr)
+        return 2
+    outdir = a.out or os.path.join(root, "figures")
+    os.makedirs(outdir, exist_ok=True)
+
+    load_all(runs, a.bins)
+    ctx = Context(root, runs, outdir, a.bins)
+    plt.rcParams.update({"font.size": 10.5, "axes.titlepad": 6})
+
+    written = [
+        plot_per_representation(ctx, "drift_position", ctx.constrained, "drift_position.png",
+                                QUANTITY["drift_position"][1] + " at every IDA step"),
+        plot_per_representation(ctx, "drift_velocity", ctx.constrained, "drift_velocity.png",
+                                QUANTITY["drift_velocity"][1] + " at every IDA step"),
+        plot_multipliers(ctx),
+        plot_per_representation(ctx, "energy_rel_error", ctx.coords, "energy_error.png",
+                                QUANTITY["energy_rel_error"][1] + " at every IDA step", chart_switches=True),
+        plot_summary(ctx),
+    ]
+    if not a.quiet:
+        if not ctx.constrained:
+            print("plot_compare: no run has constraints: drift and multiplier figures skipped", file=sys.stderr)
+        for p in written:
+            if p:
+                print(p)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
