@@ -325,6 +325,8 @@ def discover(root):
     runs = []
     for entry in sorted(os.listdir(root)):
         folder = os.path.join(root, entry)
+        if entry == "reference-check":  # the reference's own accuracy check: a number in compare.txt, not a curve
+            continue
         if os.path.isdir(folder) and os.path.isfile(os.path.join(folder, "summary.json")):
             runs.append(Run(folder, read_json(os.path.join(folder, "summary.json")), entry == "reference"))
     return runs

@@ -260,21 +260,22 @@ void write_compare_outputs(const CompareReport& r, const std::filesystem::path& 
     f << "combination,coordinates,equations,scheme,status,steps,residual_evals,jacobian_residual_evals,jacobian_evals,"
          "nonlinear_iters,error_test_fails,nonlinear_conv_fails,restarts,projections,chart_switches,wall_s,repeats,"
          "max_drift_position,max_drift_velocity,max_abs_energy_rel_error,error_final_rad,error_max_rad,lambda_min,"
-         "lambda_max,mu_abs_max,rtol,atol,run_dir,message\n";
+         "lambda_max,mu_abs_max,rtol,atol,scene,run_dir,message\n";
     for (const CompareRow& row : r.rows) {
       const IdaCounters& c = row.outcome.run.counters;
       const RunExtremes& x = row.outcome.extremes;
       std::string msg = row.outcome.run.message;
       std::replace(msg.begin(), msg.end(), '"', '\'');
       f << fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.6g},{},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},"
-                       "{:.6e},{:.6e},{:g},{:g},{},\"{}\"\n",
+                       "{:.6e},{:.6e},{:g},{:g},{},{},\"{}\"\n",
                        row.combination.name(), to_string(row.combination.coordinates),
                        to_string(row.combination.equations), row.combination.scheme, to_string(row.outcome.run.status),
                        c.steps, c.residual_evals, c.jacobian_residual_evals, c.jacobian_evals, c.nonlinear_iters,
                        c.error_test_fails, c.nonlinear_conv_fails, c.restarts, c.projections,
                        row.outcome.run.switches.size(), row.wall_median, row.wall_seconds.size(), x.max_drift_position,
                        x.max_drift_velocity, x.max_abs_energy_error, row.error_final_rad, row.error_max_rad,
-                       row.lambda_min, row.lambda_max, row.mu_abs_max, r.rtol, r.atol, row.combination.folder(), msg);
+                       row.lambda_min, row.lambda_max, row.mu_abs_max, r.rtol, r.atol, r.scene_name,
+                       row.combination.folder(), msg);
     }
   }
   const std::string table = format_compare_table(r);

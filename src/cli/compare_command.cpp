@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -128,6 +129,7 @@ int compare_command(const std::vector<std::string>& args) {
   if (!quiet) fmt::print("{}", format_compare_table(report));
   if (!quiet) fmt::print("outputs: {}/ (compare.csv, compare.txt, compare.md, one folder per combination)\n", opt.out.string());
 
+  std::fflush(stdout);  // the table before the plot script's lines
   if (plot) {
     const std::filesystem::path script = find_plot_script();
     const char* python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : nullptr;
