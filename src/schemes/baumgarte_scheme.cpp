@@ -22,10 +22,7 @@ class BaumgarteScheme final : public ConstraintScheme {
   BaumgarteScheme(double a, double b) : a_(a), b_(b) {}
 
   std::string name() const override { return "baumgarte"; }
-  UnknownLayout layout(const Representation& rep) const override {
-    const bool force = rep.constraint_kind() == ConstraintKind::Force;
-    return {rep.nq(), rep.nv(), force ? rep.nc() : 0, force ? 0 : rep.nc()};
-  }
+  UnknownLayout layout(const Representation& rep) const override { return single_level_layout(rep); }
   bool suppress_multiplier_error_test() const override { return true; }
   std::string note(const Representation& rep) const override {
     if (rep.nc() == 0) return ConstraintScheme::note(rep);

@@ -18,10 +18,7 @@ namespace {
 class Index3Scheme final : public ConstraintScheme {
  public:
   std::string name() const override { return "index3"; }
-  UnknownLayout layout(const Representation& rep) const override {
-    const bool force = rep.constraint_kind() == ConstraintKind::Force;
-    return {rep.nq(), rep.nv(), force ? rep.nc() : 0, force ? 0 : rep.nc()};
-  }
+  UnknownLayout layout(const Representation& rep) const override { return single_level_layout(rep); }
   bool suppress_multiplier_error_test() const override { return true; }
   bool suppress_velocity_error_test(const Representation& rep) const override {
     return rep.constraint_kind() == ConstraintKind::Force;

@@ -23,10 +23,7 @@ class ProjectionScheme final : public ConstraintScheme {
   explicit ProjectionScheme(const ProjectionPolicy& p) : policy_(p) {}
 
   std::string name() const override { return "projection"; }
-  UnknownLayout layout(const Representation& rep) const override {
-    const bool force = rep.constraint_kind() == ConstraintKind::Force;
-    return {rep.nq(), rep.nv(), force ? rep.nc() : 0, 0};
-  }
+  UnknownLayout layout(const Representation& rep) const override { return acceleration_level_layout(rep); }
   bool suppress_multiplier_error_test() const override { return true; }
   ProjectionPolicy projection() const override { return policy_; }
   std::string note(const Representation& rep) const override {

@@ -47,6 +47,18 @@ inline void acceleration_level_rows(const StandardTerms& t, const UnknownLayout&
   rows -= t.gamma;
 }
 
+// Layouts. A single-level scheme has one multiplier group: lambda (force)
+// in the Lagrange form, mu (kinematic) in the Euler form.
+inline UnknownLayout single_level_layout(const Representation& rep) {
+  const bool force = rep.constraint_kind() == ConstraintKind::Force;
+  return {rep.nq(), rep.nv(), force ? rep.nc() : 0, force ? 0 : rep.nc()};
+}
+// Index 1 keeps lambda in the Lagrange form and no multiplier in the Euler form.
+inline UnknownLayout acceleration_level_layout(const Representation& rep) {
+  const bool force = rep.constraint_kind() == ConstraintKind::Force;
+  return {rep.nq(), rep.nv(), force ? rep.nc() : 0, 0};
+}
+
 // The multiplier group a single-level scheme solves for.
 inline VecRef constraint_rows(const UnknownLayout& lay, VecRef F) {
   return lay.n_lambda > 0 ? F.segment(lay.lambda_offset(), lay.n_lambda) : F.segment(lay.mu_offset(), lay.n_mu);
