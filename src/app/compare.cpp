@@ -8,9 +8,12 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "rigidae/coords/representation.hpp"
 #include "rigidae/core/error.hpp"
+#include "rigidae/exact/exact_solution.hpp"
+#include "rigidae/solver/ida_driver.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/so3/rotation.hpp"
 
@@ -131,37 +134,59 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
   report.rtol = scene.solver.rtol;
   report.atol = scene.solver.atol;
 
-  // The reference and an independent cross-check in other coordinates.
   ReferenceInfo& ref = report.reference;
-  ref.rtol = opt.reference_rtol.value_or(std::clamp(scene.solver.rtol / 100.0, 1e-13, 1e-12));
-  const Combination ref_combo{Coordinates::Quaternion, Equations::Euler, "ggl"};
-  const Combination check_combo{Coordinates::EulerAngles, Equations::Euler, kAnyScheme};
-  ref.combination = ref_combo.name();
-  ref.check_combination = check_combo.name();
-  {
-    auto tight = [&](const Combination& c) {
-      Scene s = c.applied_to(scene);
-      s.solver.rtol = ref.rtol;
-      s.solver.atol = ref.rtol;
-      return s;
-    };
-    const SolveOutcome a = solve_scene(tight(ref_combo), opt.out / "reference");
-    say(fmt::format("reference {} at rtol {:g}: {} in {:.2f} s", ref.combination, ref.rtol, to_string(a.run.status),
-                    a.wall_seconds));
-    const SolveOutcome b = solve_scene(tight(check_combo), opt.out / "reference-check");
-    say(fmt::format("cross-check {} at rtol {:g}: {} in {:.2f} s", ref.check_combination, ref.rtol,
-                    to_string(b.run.status), b.wall_seconds));
-    ref.ok = a.run.status == RunStatus::Success && b.run.status == RunStatus::Success;
-    if (a.run.status != RunStatus::Success) ref.message = "reference run failed: " + a.run.message;
-    else if (b.run.status != RunStatus::Success) ref.message = "cross-check run failed: " + b.run.message;
-    const GridOrientation ga = read_grid_orientation(opt.out / "reference" / "trajectory.csv");
-    const GridOrientation gb = read_grid_orientation(opt.out / "reference-check" / "trajectory.csv");
-    ref.t = ga.t;
-    ref.q_WB = ga.q;
-    ref.accuracy_rad = ref.ok ? orientation_errors(gb, ga.t, ga.q).second : kNaN;
-    if (!ref.ok) {
-      ref.t.clear();
-      ref.q_WB.clear();
+  if (opt.reference != "auto" && opt.reference != "exact" && opt.reference != "tight")
+    throw InputError(fmt::format("reference '{}' is not one of auto, exact, tight", opt.reference));
+  std::string why_not_exact;
+  std::unique_ptr<exact::ExactSolution> closed_form;
+  if (opt.reference != "tight") {
+    try {
+      closed_form = exact::make_exact_solution(scene, &why_not_exact);
+    } catch (const std::invalid_argument& e) {  // a case the closed forms do not cover (e.g. a separatrix)
+      why_not_exact = e.what();
+    }
+    if (!closed_form && opt.reference == "exact")
+      throw InputError(fmt::format("{}: no exact solution for this scene: {}", scene.source, why_not_exact));
+  }
+  if (closed_form) {
+    ref.exact = true;
+    ref.ok = true;
+    ref.combination = "exact: " + closed_form->name();
+    ref.accuracy_rad = closed_form->accuracy();
+    ref.t = output_grid(scene.time);
+    for (double t : ref.t) ref.q_WB.push_back(so3::matrix_to_quaternion(closed_form->at(t).R_WB));
+    say(fmt::format("reference: {} (closed form, accuracy {:.1e} rad)", closed_form->name(), ref.accuracy_rad));
+  } else {
+    ref.rtol = opt.reference_rtol.value_or(std::clamp(scene.solver.rtol / 100.0, 1e-13, 1e-12));
+    const Combination ref_combo{Coordinates::Quaternion, Equations::Euler, "ggl"};
+    const Combination check_combo{Coordinates::EulerAngles, Equations::Euler, kAnyScheme};
+    ref.combination = ref_combo.name();
+    ref.check_combination = check_combo.name();
+    {
+      auto tight = [&](const Combination& c) {
+        Scene s = c.applied_to(scene);
+        s.solver.rtol = ref.rtol;
+        s.solver.atol = ref.rtol;
+        return s;
+      };
+      const SolveOutcome a = solve_scene(tight(ref_combo), opt.out / "reference");
+      say(fmt::format("reference {} at rtol {:g}: {} in {:.2f} s", ref.combination, ref.rtol, to_string(a.run.status),
+                      a.wall_seconds));
+      const SolveOutcome b = solve_scene(tight(check_combo), opt.out / "reference-check");
+      say(fmt::format("cross-check {} at rtol {:g}: {} in {:.2f} s", ref.check_combination, ref.rtol,
+                      to_string(b.run.status), b.wall_seconds));
+      ref.ok = a.run.status == RunStatus::Success && b.run.status == RunStatus::Success;
+      if (a.run.status != RunStatus::Success) ref.message = "reference run failed: " + a.run.message;
+      else if (b.run.status != RunStatus::Success) ref.message = "cross-check run failed: " + b.run.message;
+      const GridOrientation ga = read_grid_orientation(opt.out / "reference" / "trajectory.csv");
+      const GridOrientation gb = read_grid_orientation(opt.out / "reference-check" / "trajectory.csv");
+      ref.t = ga.t;
+      ref.q_WB = ga.q;
+      ref.accuracy_rad = ref.ok ? orientation_errors(gb, ga.t, ga.q).second : kNaN;
+      if (!ref.ok) {
+        ref.t.clear();
+        ref.q_WB.clear();
+      }
     }
   }
 
@@ -212,7 +237,10 @@ std::string format_compare_table(const CompareReport& r) {
   std::string s;
   s += fmt::format("rigidae compare: {} ({}), rtol {:g}, atol {:g}\n", r.scene_name, r.scene_source, r.rtol, r.atol);
   const ReferenceInfo& ref = r.reference;
-  if (ref.ok)
+  if (ref.ok && ref.exact)
+    s += fmt::format("reference: {}, the closed-form solution (estimated accuracy {:.1e} rad)\n", ref.combination,
+                     ref.accuracy_rad);
+  else if (ref.ok)
     s += fmt::format("reference: {} at rtol {:g}; its accuracy, estimated as the largest angle to {} at the same "
                      "rtol over the output grid: {:.1e} rad\n",
                      ref.combination, ref.rtol, ref.check_combination, ref.accuracy_rad);
@@ -255,8 +283,9 @@ void write_compare_outputs(const CompareReport& r, const std::filesystem::path& 
   {
     std::ofstream f = open("compare.csv");
     f << fmt::format("# units: wall_s s (median of repeats); drift_position 1; drift_velocity 1/s; error_* rad to the "
-                     "reference {} at rtol {:g} (estimated accuracy {:.3e} rad); lambda J; mu 1/s\n",
-                     r.reference.combination, r.reference.rtol, r.reference.accuracy_rad);
+                     "reference {}{} (estimated accuracy {:.3e} rad); lambda J; mu 1/s\n",
+                     r.reference.combination,
+                     r.reference.exact ? "" : fmt::format(" at rtol {:g}", r.reference.rtol), r.reference.accuracy_rad);
     f << "combination,coordinates,equations,scheme,status,steps,residual_evals,jacobian_residual_evals,jacobian_evals,"
          "nonlinear_iters,error_test_fails,nonlinear_conv_fails,restarts,projections,chart_switches,wall_s,repeats,"
          "max_drift_position,max_drift_velocity,max_abs_energy_rel_error,error_final_rad,error_max_rad,lambda_min,"

@@ -24,8 +24,13 @@ const char* kCompareHelp = R"(Options of 'compare' (runs every applicable coordi
                           ('ggl', 'linear', 'index*') matches any one part
                           ('euler' matches both Euler angles and the Euler form)
   --skip LIST             patterns of combinations to leave out
-  --reference-rtol X      tolerance of the reference runs (default rtol/100,
-                          clamped to [1e-13, 1e-12])
+  --reference auto|exact|tight
+                          the reference: 'exact' the closed-form solution (free
+                          body, symmetric Lagrange top), 'tight' a run of
+                          quaternion/euler/ggl at --reference-rtol checked against
+                          Euler angles; 'auto' (default) exact when there is one
+  --reference-rtol X      tolerance of the tight reference runs (default
+                          rtol/100, clamped to [1e-13, 1e-12])
   --out DIR               output folder (default: out/NAME-compare)
   --plot                  draw figures with tools/plot_compare.py into DIR/figures
   --quiet                 no progress lines, no table on stdout
@@ -100,7 +105,12 @@ int compare_command(const std::vector<std::string>& args) {
       opt.repeat = static_cast<int>(n);
     } else if (a == "--only") opt.only = split_list(value());
     else if (a == "--skip") opt.skip = split_list(value());
-    else if (a == "--reference-rtol") {
+    else if (a == "--reference") {
+      opt.reference = value();
+      if (opt.reference != "auto" && opt.reference != "exact" && opt.reference != "tight")
+        throw InputError(fmt::format("option --reference: unknown value '{}'; valid values: auto, exact, tight",
+                                     opt.reference));
+    } else if (a == "--reference-rtol") {
       const double x = parse_number(a, value());
       if (!(x > 0 && x < 1)) throw InputError(fmt::format("option --reference-rtol: {} is outside (0, 1)", x));
       opt.reference_rtol = x;

@@ -228,3 +228,25 @@ TEST_CASE("compare selects combinations by pattern") {
   CHECK(euler_rows == 2);
   CHECK(all_combinations().size() == 2 + 4 * scheme_names().size());
 }
+
+TEST_CASE("the closed-form reference and the tight-run reference give the same errors") {
+  Scene s = test::heavy_top_scene();
+  CompareOptions opt;
+  opt.repeat = 1;
+  opt.only = {"quaternion/*/ggl", "euler/euler/*"};
+  opt.out = scratch("compare-exact");
+  const CompareReport exact = compare_scene(s, opt, nullptr);
+  opt.reference = "tight";
+  opt.out = scratch("compare-tight");
+  const CompareReport tight = compare_scene(s, opt, nullptr);
+  REQUIRE(exact.reference.exact);  // the heavy top is a symmetric Lagrange top
+  REQUIRE_FALSE(tight.reference.exact);
+  CHECK(exact.reference.accuracy_rad < 1e-10);
+  REQUIRE(exact.rows.size() == 3);
+  REQUIRE(tight.rows.size() == 3);
+  for (std::size_t i = 0; i < exact.rows.size(); ++i) {
+    CAPTURE(exact.rows[i].combination.name());
+    // The tight reference is itself within ~2e-8 rad of the truth.
+    CHECK(std::abs(exact.rows[i].error_final_rad - tight.rows[i].error_final_rad) < 1e-7);
+  }
+}

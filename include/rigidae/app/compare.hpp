@@ -41,12 +41,18 @@ struct CompareOptions {
   std::vector<std::string> only, skip;
   std::filesystem::path out;
   std::optional<double> reference_rtol;  // default: rtol / 100, clamped to [1e-13, 1e-12]
+  // "auto": the closed-form solution when the scene has one, else "tight".
+  // "exact": the closed form, or an InputError saying why there is none.
+  // "tight": tight runs of quaternion/euler/ggl, checked against Euler angles.
+  std::string reference = "auto";
 };
 
-// The reference: a tight run of one combination, its accuracy estimated by
-// the largest angle to a tight run in different coordinates.
+// The reference: a closed-form solution (exact/), or a tight run of one
+// combination whose accuracy is estimated by the largest angle to a tight run
+// in different coordinates.
 struct ReferenceInfo {
-  std::string combination, check_combination;
+  bool exact = false;                   // a closed form, not a run
+  std::string combination, check_combination;  // for an exact reference: its name, empty
   double rtol = 0.0;
   bool ok = false;
   std::string message;                  // why it failed, if it did
