@@ -136,7 +136,7 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
 
   ReferenceInfo& ref = report.reference;
   if (opt.reference != "auto" && opt.reference != "exact" && opt.reference != "tight")
-    throw InputError(fmt::format("reference '{}' is not one of auto, exact, tight", opt.reference));
+    throw InputError(fmt::format("unknown reference '{}'; valid values: auto, exact, tight", opt.reference));
   std::string why_not_exact;
   std::unique_ptr<exact::ExactSolution> closed_form;
   if (opt.reference != "tight") {
@@ -162,31 +162,28 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
     const Combination check_combo{Coordinates::EulerAngles, Equations::Euler, kAnyScheme};
     ref.combination = ref_combo.name();
     ref.check_combination = check_combo.name();
-    {
-      auto tight = [&](const Combination& c) {
-        Scene s = c.applied_to(scene);
-        s.solver.rtol = ref.rtol;
-        s.solver.atol = ref.rtol;
-        return s;
-      };
-      const SolveOutcome a = solve_scene(tight(ref_combo), opt.out / "reference");
-      say(fmt::format("reference {} at rtol {:g}: {} in {:.2f} s", ref.combination, ref.rtol, to_string(a.run.status),
-                      a.wall_seconds));
-      const SolveOutcome b = solve_scene(tight(check_combo), opt.out / "reference-check");
-      say(fmt::format("cross-check {} at rtol {:g}: {} in {:.2f} s", ref.check_combination, ref.rtol,
-                      to_string(b.run.status), b.wall_seconds));
-      ref.ok = a.run.status == RunStatus::Success && b.run.status == RunStatus::Success;
-      if (a.run.status != RunStatus::Success) ref.message = "reference run failed: " + a.run.message;
-      else if (b.run.status != RunStatus::Success) ref.message = "cross-check run failed: " + b.run.message;
-      const GridOrientation ga = read_grid_orientation(opt.out / "reference" / "trajectory.csv");
+    auto tight = [&](const Combination& c) {
+      Scene s = c.applied_to(scene);
+      s.solver.rtol = ref.rtol;
+      s.solver.atol = ref.rtol;
+      return s;
+    };
+    const SolveOutcome a = solve_scene(tight(ref_combo), opt.out / "reference");
+    say(fmt::format("reference {} at rtol {:g}: {} in {:.2f} s", ref.combination, ref.rtol, to_string(a.run.status),
+                    a.wall_seconds));
+    const SolveOutcome b = solve_scene(tight(check_combo), opt.out / "reference-check");
+    say(fmt::format("cross-check {} at rtol {:g}: {} in {:.2f} s", ref.check_combination, ref.rtol,
+                    to_string(b.run.status), b.wall_seconds));
+    ref.ok = a.run.status == RunStatus::Success && b.run.status == RunStatus::Success;
+    if (a.run.status != RunStatus::Success) ref.message = "reference run failed: " + a.run.message;
+    else if (b.run.status != RunStatus::Success) ref.message = "cross-check run failed: " + b.run.message;
+    ref.accuracy_rad = kNaN;
+    if (ref.ok) {
+      GridOrientation ga = read_grid_orientation(opt.out / "reference" / "trajectory.csv");
       const GridOrientation gb = read_grid_orientation(opt.out / "reference-check" / "trajectory.csv");
-      ref.t = ga.t;
-      ref.q_WB = ga.q;
-      ref.accuracy_rad = ref.ok ? orientation_errors(gb, ga.t, ga.q).second : kNaN;
-      if (!ref.ok) {
-        ref.t.clear();
-        ref.q_WB.clear();
-      }
+      ref.accuracy_rad = orientation_errors(gb, ga.t, ga.q).second;
+      ref.t = std::move(ga.t);
+      ref.q_WB = std::move(ga.q);
     }
   }
 

@@ -12,7 +12,6 @@
 #include "commands.hpp"
 #include "rigidae/app/compare.hpp"
 #include "rigidae/core/error.hpp"
-#include "rigidae/io/scene_loader.hpp"
 #include "scene_options.hpp"
 
 namespace rigidae::cli {
@@ -85,17 +84,9 @@ std::filesystem::path find_plot_script() {
 }  // namespace
 
 int compare_command(const std::vector<std::string>& args) {
-  std::string scene_path;
   CompareOptions opt;
   bool quiet = false, plot = false;
-  std::vector<std::pair<std::string, std::string>> overrides;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= args.size()) throw InputError(fmt::format("option {} needs a value (see rigidae --help)", a));
-      return args[++i];
-    };
-    bool takes_value = false;
+  const Scene scene = parse_command_line(args, "compare", [&](const std::string& a, const NextValue& value) {
     if (a == "--quiet") quiet = true;
     else if (a == "--plot") plot = true;
     else if (a == "--out") opt.out = value();
@@ -105,12 +96,8 @@ int compare_command(const std::vector<std::string>& args) {
       opt.repeat = static_cast<int>(n);
     } else if (a == "--only") opt.only = split_list(value());
     else if (a == "--skip") opt.skip = split_list(value());
-    else if (a == "--reference") {
-      opt.reference = value();
-      if (opt.reference != "auto" && opt.reference != "exact" && opt.reference != "tight")
-        throw InputError(fmt::format("option --reference: unknown value '{}'; valid values: auto, exact, tight",
-                                     opt.reference));
-    } else if (a == "--reference-rtol") {
+    else if (a == "--reference") opt.reference = value();  // checked by compare_scene
+    else if (a == "--reference-rtol") {
       const double x = parse_number(a, value());
       if (!(x > 0 && x < 1)) throw InputError(fmt::format("option --reference-rtol: {} is outside (0, 1)", x));
       opt.reference_rtol = x;
@@ -118,14 +105,9 @@ int compare_command(const std::vector<std::string>& args) {
       throw InputError(fmt::format("option {} does not apply to compare, which runs every combination; select "
                                    "with --only/--skip (e.g. --only 'quaternion/*/ggl')",
                                    a));
-    else if (is_scene_option(a, takes_value)) overrides.emplace_back(a, takes_value ? value() : "");
-    else if (a.rfind("--", 0) == 0) throw InputError(fmt::format("unknown option '{}' for compare; see rigidae --help", a));
-    else if (scene_path.empty()) scene_path = a;
-    else throw InputError(fmt::format("unexpected argument '{}': compare takes one scene file", a));
-  }
-  if (scene_path.empty()) throw InputError("compare needs a scene file: rigidae compare SCENE.toml");
-  Scene scene = io::load_scene(scene_path);
-  for (const auto& [o, text] : overrides) apply_scene_option(scene, o, text);
+    else return false;
+    return true;
+  });
   if (opt.out.empty()) opt.out = std::filesystem::path("out") / fmt::format("{}-compare", scene.name.empty() ? "scene" : scene.name);
 
   std::error_code ec;

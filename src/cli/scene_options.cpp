@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "rigidae/core/error.hpp"
+#include "rigidae/io/scene_loader.hpp"
 #include "rigidae/schemes/scheme.hpp"
 
 namespace rigidae::cli {
@@ -160,6 +161,31 @@ void apply_scene_option(Scene& scene, const std::string& opt, const std::string&
     form.euler.switching = false;
   else
     throw InputError(fmt::format("unknown option '{}'; see rigidae --help", opt));
+}
+
+Scene parse_command_line(const std::vector<std::string>& args, const std::string& command,
+                         const std::function<bool(const std::string& opt, const NextValue& value)>& own) {
+  std::string scene_path;
+  std::vector<std::pair<std::string, std::string>> overrides;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    const NextValue value = [&]() -> std::string {
+      if (i + 1 >= args.size()) throw InputError(fmt::format("option {} needs a value (see rigidae --help)", a));
+      return args[++i];
+    };
+    bool takes_value = false;
+    if (own(a, value)) continue;
+    if (is_scene_option(a, takes_value)) overrides.emplace_back(a, takes_value ? value() : "");
+    else if (a.rfind("--", 0) == 0)
+      throw InputError(fmt::format("unknown option '{}' for {}; see rigidae --help", a, command));
+    else if (scene_path.empty()) scene_path = a;
+    else throw InputError(fmt::format("unexpected argument '{}': {} takes one scene file", a, command));
+  }
+  if (scene_path.empty())
+    throw InputError(fmt::format("{0} needs a scene file: rigidae {0} SCENE.toml", command));
+  Scene scene = io::load_scene(scene_path);
+  for (const auto& [opt, text] : overrides) apply_scene_option(scene, opt, text);
+  return scene;
 }
 
 }  // namespace rigidae::cli

@@ -1,5 +1,6 @@
 #pragma once
 // Command-line options that override a scene file, shared by the commands.
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,6 +18,14 @@ long parse_count(const std::string& opt, const std::string& text);
 bool is_scene_option(const std::string& opt, bool& takes_value);
 // Applies one override (checked; InputError names the option and what is valid).
 void apply_scene_option(Scene& scene, const std::string& opt, const std::string& text);
+
+// Walks a command's arguments: one positional scene file, the scene
+// overrides, and the command's own options, handed to `own` with a function
+// that takes the option's value (own returns false for an option it does not
+// know). Loads the scene and applies the overrides in order.
+using NextValue = std::function<std::string()>;
+Scene parse_command_line(const std::vector<std::string>& args, const std::string& command,
+                         const std::function<bool(const std::string& opt, const NextValue& value)>& own);
 
 // The help lines of the overrides every command accepts.
 extern const char* kSceneOptionsHelp;

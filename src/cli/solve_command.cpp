@@ -1,12 +1,9 @@
 // rigidae solve SCENE: one run, its report on stdout, outputs in a folder.
 #include <fmt/format.h>
 
-#include <csignal>
-
 #include "commands.hpp"
 #include "rigidae/app/solve.hpp"
 #include "rigidae/core/error.hpp"
-#include "rigidae/io/scene_loader.hpp"
 #include "scene_options.hpp"
 
 namespace rigidae::cli {
@@ -62,26 +59,14 @@ void print_report(const Scene& scene, const SolveOutcome& o) {
 }  // namespace
 
 int solve_command(const std::vector<std::string>& args) {
-  std::string scene_path, out_arg;
+  std::string out_arg;
   bool quiet = false;
-  std::vector<std::pair<std::string, std::string>> overrides;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= args.size()) throw InputError(fmt::format("option {} needs a value (see rigidae --help)", a));
-      return args[++i];
-    };
-    bool takes_value = false;
-    if (a == "--quiet") quiet = true;
-    else if (a == "--out") out_arg = value();
-    else if (is_scene_option(a, takes_value)) overrides.emplace_back(a, takes_value ? value() : "");
-    else if (a.rfind("--", 0) == 0) throw InputError(fmt::format("unknown option '{}' for solve; see rigidae --help", a));
-    else if (scene_path.empty()) scene_path = a;
-    else throw InputError(fmt::format("unexpected argument '{}': solve takes one scene file", a));
-  }
-  if (scene_path.empty()) throw InputError("solve needs a scene file: rigidae solve SCENE.toml");
-  Scene scene = io::load_scene(scene_path);
-  for (const auto& [opt, text] : overrides) apply_scene_option(scene, opt, text);
+  const Scene scene = parse_command_line(args, "solve", [&](const std::string& opt, const NextValue& value) {
+    if (opt == "--quiet") quiet = true;
+    else if (opt == "--out") out_arg = value();
+    else return false;
+    return true;
+  });
 
   const std::filesystem::path out =
       out_arg.empty() ? std::filesystem::path("out") / default_run_name(scene) : std::filesystem::path(out_arg);

@@ -20,8 +20,7 @@ class Index1Scheme final : public ConstraintScheme {
   std::string name() const override { return "index1"; }
   UnknownLayout layout(const Representation& rep) const override { return acceleration_level_layout(rep); }
   bool suppress_multiplier_error_test() const override { return true; }
-  std::string note(const Representation& rep) const override {
-    if (rep.nc() == 0) return ConstraintScheme::note(rep);
+  std::string constrained_note(const Representation& rep) const override {
     if (rep.constraint_kind() == ConstraintKind::Kinematic)
       return "in the Euler form the kinematics keep the constraint: index 1 is the ODE q' = N v, M v' = f, "
              "with no multiplier";
@@ -30,9 +29,7 @@ class Index1Scheme final : public ConstraintScheme {
 
   void residual(const StandardTerms& t, const UnknownLayout& lay, const ConstVecRef& y, const ConstVecRef& yp,
                 VecRef F) const override {
-    kinematic_rows(t, lay, y, yp, F);
-    dynamic_rows(t, lay, y, yp, F);
-    if (lay.n_lambda > 0) acceleration_level_rows(t, lay, yp, F.segment(lay.lambda_offset(), lay.n_lambda));
+    index1_residual(t, lay, y, yp, F);
   }
 };
 

@@ -17,8 +17,7 @@ class Index2Scheme final : public ConstraintScheme {
   std::string name() const override { return "index2"; }
   UnknownLayout layout(const Representation& rep) const override { return single_level_layout(rep); }
   bool suppress_multiplier_error_test() const override { return true; }
-  std::string note(const Representation& rep) const override {
-    if (rep.nc() == 0) return ConstraintScheme::note(rep);
+  std::string constrained_note(const Representation& rep) const override {
     if (rep.constraint_kind() == ConstraintKind::Kinematic)
       return "in the Euler form the velocity level is d/dt Phi = Phi_q q' = 0, which fixes mu algebraically "
              "(index 1 in this form)";

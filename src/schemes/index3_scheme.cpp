@@ -23,8 +23,7 @@ class Index3Scheme final : public ConstraintScheme {
   bool suppress_velocity_error_test(const Representation& rep) const override {
     return rep.constraint_kind() == ConstraintKind::Force;
   }
-  std::string note(const Representation& rep) const override {
-    if (rep.nc() == 0) return ConstraintScheme::note(rep);
+  std::string constrained_note(const Representation& rep) const override {
     if (rep.constraint_kind() == ConstraintKind::Kinematic)
       return "in the Euler form the position constraint acts through the kinematics (q' = N v - Phi_q^T mu): "
              "the system is index 2, with the same rows as ggl";

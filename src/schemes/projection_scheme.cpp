@@ -26,8 +26,7 @@ class ProjectionScheme final : public ConstraintScheme {
   UnknownLayout layout(const Representation& rep) const override { return acceleration_level_layout(rep); }
   bool suppress_multiplier_error_test() const override { return true; }
   ProjectionPolicy projection() const override { return policy_; }
-  std::string note(const Representation& rep) const override {
-    if (rep.nc() == 0) return ConstraintScheme::note(rep);
+  std::string constrained_note(const Representation& /*rep*/) const override {
     const std::string when = policy_.every_step ? "after every step"
                                                 : fmt::format("when the drift exceeds {:g}", policy_.threshold);
     return "index-1 rows; the state is projected onto the manifold " + when + " and IDA restarts at order 1";
@@ -35,9 +34,7 @@ class ProjectionScheme final : public ConstraintScheme {
 
   void residual(const StandardTerms& t, const UnknownLayout& lay, const ConstVecRef& y, const ConstVecRef& yp,
                 VecRef F) const override {
-    kinematic_rows(t, lay, y, yp, F);
-    dynamic_rows(t, lay, y, yp, F);
-    if (lay.n_lambda > 0) acceleration_level_rows(t, lay, yp, F.segment(lay.lambda_offset(), lay.n_lambda));
+    index1_residual(t, lay, y, yp, F);
   }
 
  private:

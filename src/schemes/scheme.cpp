@@ -5,7 +5,7 @@ namespace rigidae {
 
 std::string ConstraintScheme::note(const Representation& rep) const {
   if (rep.nc() == 0) return "Euler angles have no constraints: scheme '" + name() + "' leaves the ODE as it is";
-  return {};
+  return constrained_note(rep);
 }
 
 VecC ConstraintScheme::acceleration_target(const StandardTerms& t, const ConstVecRef& /*v*/) const { return t.gamma; }

@@ -64,4 +64,13 @@ inline VecRef constraint_rows(const UnknownLayout& lay, VecRef F) {
   return lay.n_lambda > 0 ? F.segment(lay.lambda_offset(), lay.n_lambda) : F.segment(lay.mu_offset(), lay.n_mu);
 }
 
+// The whole index-1 residual (index1, and projection between projections):
+// kinematics, dynamics and, in the Lagrange form, G v' = gamma.
+inline void index1_residual(const StandardTerms& t, const UnknownLayout& lay, const ConstVecRef& y,
+                            const ConstVecRef& yp, VecRef F) {
+  kinematic_rows(t, lay, y, yp, F);
+  dynamic_rows(t, lay, y, yp, F);
+  if (lay.n_lambda > 0) acceleration_level_rows(t, lay, yp, F.segment(lay.lambda_offset(), lay.n_lambda));
+}
+
 }  // namespace rigidae::schemes

@@ -348,7 +348,6 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
           before.velocity > projection.threshold) {
         // IDA keeps no memory across the restart: the step size is carried
         // over, the order and the history are lost.
-        yp = yp_ida;
         dae.project(t, y, yp);
         restart(h);
         ++before_restart.projections;

@@ -51,8 +51,9 @@ class ConstraintScheme {
   // Whether and when the driver projects the state onto the manifold.
   virtual ProjectionPolicy projection() const { return {}; }
   // A note for the report when the scheme does something unusual for this
-  // representation (e.g. nothing at all: Euler angles have no constraints).
-  virtual std::string note(const Representation& rep) const;
+  // representation. Without constraints (Euler angles) every scheme is the
+  // same ODE, and the note says so; otherwise it is constrained_note().
+  std::string note(const Representation& rep) const;
 
   // The hot path: F(t, y, y') from the terms evaluated at (q, v) of y.
   virtual void residual(const StandardTerms& terms, const UnknownLayout& lay, const ConstVecRef& y,
@@ -68,6 +69,8 @@ class ConstraintScheme {
   virtual void consistent_start(const StandardTerms& terms, const UnknownLayout& lay, VecRef y, VecRef yp) const;
 
  protected:
+  // The note for a representation with constraints (empty by default).
+  virtual std::string constrained_note(const Representation& /*rep*/) const { return {}; }
   // What the consistent start solves for, so that a scheme with feedback
   // starts on its own solution: G v' = acceleration_target (Force kind) and
   // Phi_q q' = rate_target (Kinematic kind with mu).
