@@ -298,7 +298,7 @@ void write_compare_outputs(const CompareReport& r, const std::filesystem::path& 
                        to_string(row.combination.equations), row.combination.scheme, to_string(row.outcome.run.status),
                        c.steps, c.residual_evals, c.jacobian_residual_evals, c.jacobian_evals, c.nonlinear_iters,
                        c.error_test_fails, c.nonlinear_conv_fails, c.restarts, c.projections,
-                       row.outcome.run.switches.size(), row.wall_median, row.wall_seconds.size(), x.max_drift_position,
+                       row.outcome.run.switch_count, row.wall_median, row.wall_seconds.size(), x.max_drift_position,
                        x.max_drift_velocity, x.max_abs_energy_error, row.error_final_rad, row.error_max_rad,
                        row.lambda_min, row.lambda_max, row.mu_abs_max, r.rtol, r.atol, r.scene_name,
                        row.combination.folder(), msg);

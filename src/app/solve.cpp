@@ -98,7 +98,8 @@ void write_summary(const std::filesystem::path& path, const Scene& scene, const 
         {"projections", c.projections},
         {"last_step", c.last_step},
         {"last_order", c.last_order}}},
-      {"chart_switches", switches},
+      {"chart_switch_count", o.run.switch_count},
+      {"chart_switches", switches},  // the first kSwitchesKept; events.csv has them all
       {"maxima",
        {{"drift_position", o.extremes.max_drift_position},
         {"drift_velocity", o.extremes.max_drift_velocity},

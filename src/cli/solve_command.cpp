@@ -48,7 +48,7 @@ void print_report(const Scene& scene, const SolveOutcome& o) {
     fmt::print("  multiplier    {} in [{:.4g}, {:.4g}]\n", o.multiplier_names[i], o.extremes.multiplier_min(i),
                o.extremes.multiplier_max(i));
   if (!r.switches.empty())
-    fmt::print("  charts        {} switches; first at t = {:.6g} s ({} -> {})\n", r.switches.size(), r.switches.front().t,
+    fmt::print("  charts        {} switches; first at t = {:.6g} s ({} -> {})\n", r.switch_count, r.switches.front().t,
                r.switches.front().from, r.switches.front().to);
   if (c.projections > 0)
     fmt::print("  projections   {} (each restarts IDA at order 1)\n", c.projections);

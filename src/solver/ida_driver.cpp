@@ -25,15 +25,25 @@ std::string to_string(RunStatus s) {
   return "?";
 }
 
-std::vector<double> output_grid(const TimeGrid& grid) {
-  std::vector<double> ts;
+OutputGrid::OutputGrid(const TimeGrid& grid) : grid_(grid) {
   const double span = grid.end - grid.start;
   const long n = static_cast<long>(std::floor(span / grid.output_step * (1 + 1e-12)));
-  for (long k = 0; k <= n; ++k) {
-    const double t = grid.start + static_cast<double>(k) * grid.output_step;
-    if (t < grid.end - 1e-9 * grid.output_step) ts.push_back(t);
-  }
-  ts.push_back(grid.end);
+  // Points start + k step for k = 0..n, less any that falls on (or within
+  // round-off of) the end, which is always the last point.
+  long inner = n + 1;
+  while (inner > 1 && grid.start + static_cast<double>(inner - 1) * grid.output_step >= grid.end - 1e-9 * grid.output_step)
+    --inner;
+  n_inner_ = static_cast<std::size_t>(inner);
+}
+
+double OutputGrid::operator[](std::size_t k) const {
+  return k < n_inner_ ? grid_.start + static_cast<double>(k) * grid_.output_step : grid_.end;
+}
+
+std::vector<double> output_grid(const TimeGrid& grid) {
+  const OutputGrid g(grid);
+  std::vector<double> ts(g.size());
+  for (std::size_t k = 0; k < g.size(); ++k) ts[k] = g[k];
   return ts;
 }
 
@@ -182,6 +192,12 @@ ChartSwitch change_chart(DaeSystem& dae, double t, Eigen::VectorXd& y, Eigen::Ve
   return s;
 }
 
+void record_switch(RunResult& result, StepSink& sink, const ChartSwitch& s) {
+  ++result.switch_count;
+  if (result.switches.size() < kSwitchesKept) result.switches.push_back(s);
+  sink.on_chart_switch(s);
+}
+
 }  // namespace
 
 RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
@@ -208,10 +224,7 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
           scene.source, rep.chart_name(), span.start, rep.chart_margin(dae.coordinates(y.data())),
           charts.switch_threshold));
     const ChartSwitch s = change_chart(dae, span.start, y, yp);
-    if (!s.to.empty()) {
-      result.switches.push_back(s);
-      sink.on_chart_switch(s);
-    }
+    if (!s.to.empty()) record_switch(result, sink, s);
   }
 
   Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(ida.y), n) = y;
@@ -257,7 +270,7 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
   check(IDASetInitStep(ida.mem, h0), "IDASetInitStep");
   if (watch_charts) check(IDARootInit(ida.mem, 1, chart_root_callback), "IDARootInit");
 
-  const std::vector<double> grid = output_grid(span);
+  const OutputGrid grid(span);
   std::size_t next_out = 0;
   sink.on_output(span.start, y);
   ++next_out;
@@ -331,8 +344,7 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
       const ChartSwitch s = change_chart(dae, t, y, yp);
       if (s.to.empty()) continue;  // already the most regular chart
       restart(first_step_estimate(dae, t, y, yp, opt, span.end - span.start));
-      result.switches.push_back(s);
-      sink.on_chart_switch(s);
+      record_switch(result, sink, s);
       continue;
     }
     ++steps_total;

@@ -36,6 +36,9 @@ struct ChartSwitch {
   double margin = 0.0;  // of the old chart where it was left
 };
 
+// A long run can switch charts without bound; only this many are held in memory.
+constexpr std::size_t kSwitchesKept = 100;
+
 enum class RunStatus { Success, Failed, Interrupted };
 std::string to_string(RunStatus s);
 
@@ -44,7 +47,8 @@ struct RunResult {
   std::string message;     // why it stopped, if it did not succeed
   double t_reached = 0.0;  // s
   IdaCounters counters;
-  std::vector<ChartSwitch> switches;
+  long switch_count = 0;                // every chart switch (events.csv lists them all)
+  std::vector<ChartSwitch> switches;    // the first kSwitchesKept of them
   double initial_residual = 0.0;  // max |F(t0, y0, y0')|: the consistency of the start
 };
 
@@ -68,7 +72,20 @@ extern std::atomic<bool> g_interrupt_requested;
 // says what happened. Throws InputError for an impossible start.
 RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink);
 
-// The output grid: start, start + k step, ..., and end exactly.
+// The output grid: start, start + k step, ..., and end exactly, computed
+// point by point (a run of 1e8 output intervals must not hold them all).
+class OutputGrid {
+ public:
+  explicit OutputGrid(const TimeGrid& grid);
+  std::size_t size() const { return n_inner_ + 1; }
+  double operator[](std::size_t k) const;
+
+ private:
+  TimeGrid grid_;
+  std::size_t n_inner_ = 0;  // points before the end
+};
+
+// All points of OutputGrid as a vector.
 std::vector<double> output_grid(const TimeGrid& grid);
 
 }  // namespace rigidae
