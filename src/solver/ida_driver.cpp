@@ -224,7 +224,13 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
           scene.source, rep.chart_name(), span.start, rep.chart_margin(dae.coordinates(y.data())),
           charts.switch_threshold));
     const ChartSwitch s = change_chart(dae, span.start, y, yp);
-    if (!s.to.empty()) record_switch(result, sink, s);
+    if (!s.to.empty()) {
+      // Rebuilt from the physical start in the new chart: velocities that
+      // went through the old chart (angle rates B^-1 omega) are lost at its
+      // singularity, e.g. a top that starts exactly upright in z-x-z.
+      dae.consistent_state(span.start, scene.R0_WB, scene.omega0_B, y, yp);
+      record_switch(result, sink, s);
+    }
   }
 
   Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(ida.y), n) = y;
