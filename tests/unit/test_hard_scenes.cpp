@@ -336,3 +336,19 @@ TEST_CASE("a top started exactly upright in the z-x-z chart starts in both Euler
     CHECK(so3::quaternion_distance(o.extremes.last.q_WB, quat.extremes.last.q_WB) < 5e-6);
   }
 }
+
+TEST_CASE("every scene in problems/ loads and starts") {
+  int scenes = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(RIGIDAE_SOURCE_DIR) + "/problems")) {
+    if (entry.path().extension() != ".toml") continue;
+    CAPTURE(entry.path().string());
+    Scene s = io::load_scene(entry.path().string());
+    s.time.end = s.time.start + std::min(0.05, s.time.end - s.time.start);
+    s.time.output_step = std::min(s.time.output_step, s.time.end - s.time.start);
+    const SolveOutcome o = solve_scene(s, scratch("start-" + s.name));
+    CHECK(o.run.status == RunStatus::Success);
+    CHECK(o.extremes.max_abs_energy_error < 1e-6);
+    ++scenes;
+  }
+  CHECK(scenes >= 8);
+}
