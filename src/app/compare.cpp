@@ -11,8 +11,9 @@
 #include <stdexcept>
 
 #include "rigidae/coords/representation.hpp"
+#include "rigidae/app/accuracy.hpp"
 #include "rigidae/core/error.hpp"
-#include "rigidae/exact/exact_solution.hpp"
+#include "rigidae/record/trajectory_csv.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/so3/rotation.hpp"
@@ -25,44 +26,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kAnyScheme = "any";
 // The scheme an Euler-angle run uses: all give it the same ODE.
 constexpr const char* kSchemeForUnconstrained = "ggl";
-
-// The orientation on the output grid, read back from a run's trajectory.csv
-// (columns t, qw, qx, qy, qz first).
-struct GridOrientation {
-  std::vector<double> t;
-  std::vector<Vec4> q;
-};
-
-GridOrientation read_grid_orientation(const std::filesystem::path& csv) {
-  GridOrientation g;
-  std::ifstream in(csv);
-  if (!in) throw InputError(fmt::format("{}: cannot read", csv.string()));
-  std::string line;
-  std::getline(in, line);  // units
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::istringstream row(line);
-    std::string cell;
-    double v[5];
-    int k = 0;
-    for (; k < 5 && std::getline(row, cell, ','); ++k) v[k] = std::strtod(cell.c_str(), nullptr);
-    if (k < 5) break;
-    g.t.push_back(v[0]);
-    g.q.emplace_back(v[1], v[2], v[3], v[4]);
-  }
-  return g;
-}
-
-// Largest angle between two runs over the grid points both reached, and the
-// angle at the reference's last point if the run reached it (else NaN).
-std::pair<double, double> orientation_errors(const GridOrientation& run, const std::vector<double>& t_ref,
-                                             const std::vector<Vec4>& q_ref) {
-  const std::size_t n = std::min(run.t.size(), t_ref.size());
-  double max_err = 0.0;
-  for (std::size_t i = 0; i < n; ++i) max_err = std::max(max_err, so3::quaternion_distance(run.q[i], q_ref[i]));
-  const bool complete = !t_ref.empty() && run.t.size() == t_ref.size();
-  return {complete ? so3::quaternion_distance(run.q.back(), q_ref.back()) : kNaN, n > 0 ? max_err : kNaN};
-}
 
 double median(std::vector<double> v) {
   if (v.empty()) return kNaN;
@@ -134,58 +97,11 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
   report.rtol = scene.solver.rtol;
   report.atol = scene.solver.atol;
 
-  ReferenceInfo& ref = report.reference;
-  if (opt.reference != "auto" && opt.reference != "exact" && opt.reference != "tight")
-    throw InputError(fmt::format("unknown reference '{}'; valid values: auto, exact, tight", opt.reference));
-  std::string why_not_exact;
-  std::unique_ptr<exact::ExactSolution> closed_form;
-  if (opt.reference != "tight") {
-    try {
-      closed_form = exact::make_exact_solution(scene, &why_not_exact);
-    } catch (const std::invalid_argument& e) {  // a case the closed forms do not cover (e.g. a separatrix)
-      why_not_exact = e.what();
-    }
-    if (!closed_form && opt.reference == "exact")
-      throw InputError(fmt::format("{}: no exact solution for this scene: {}", scene.source, why_not_exact));
-  }
-  if (closed_form) {
-    ref.exact = true;
-    ref.ok = true;
-    ref.combination = "exact: " + closed_form->name();
-    ref.accuracy_rad = closed_form->accuracy();
-    ref.t = output_grid(scene.time);
-    for (double t : ref.t) ref.q_WB.push_back(so3::matrix_to_quaternion(closed_form->at(t).R_WB));
-    say(fmt::format("reference: {} (closed form, accuracy {:.1e} rad)", closed_form->name(), ref.accuracy_rad));
-  } else {
-    ref.rtol = opt.reference_rtol.value_or(std::clamp(scene.solver.rtol / 100.0, 1e-13, 1e-12));
-    const Combination ref_combo{Coordinates::Quaternion, Equations::Euler, "ggl"};
-    const Combination check_combo{Coordinates::EulerAngles, Equations::Euler, kAnyScheme};
-    ref.combination = ref_combo.name();
-    ref.check_combination = check_combo.name();
-    auto tight = [&](const Combination& c) {
-      Scene s = c.applied_to(scene);
-      s.solver.rtol = ref.rtol;
-      s.solver.atol = ref.rtol;
-      return s;
-    };
-    const SolveOutcome a = solve_scene(tight(ref_combo), opt.out / "reference");
-    say(fmt::format("reference {} at rtol {:g}: {} in {:.2f} s", ref.combination, ref.rtol, to_string(a.run.status),
-                    a.wall_seconds));
-    const SolveOutcome b = solve_scene(tight(check_combo), opt.out / "reference-check");
-    say(fmt::format("cross-check {} at rtol {:g}: {} in {:.2f} s", ref.check_combination, ref.rtol,
-                    to_string(b.run.status), b.wall_seconds));
-    ref.ok = a.run.status == RunStatus::Success && b.run.status == RunStatus::Success;
-    if (a.run.status != RunStatus::Success) ref.message = "reference run failed: " + a.run.message;
-    else if (b.run.status != RunStatus::Success) ref.message = "cross-check run failed: " + b.run.message;
-    ref.accuracy_rad = kNaN;
-    if (ref.ok) {
-      GridOrientation ga = read_grid_orientation(opt.out / "reference" / "trajectory.csv");
-      const GridOrientation gb = read_grid_orientation(opt.out / "reference-check" / "trajectory.csv");
-      ref.accuracy_rad = orientation_errors(gb, ga.t, ga.q).second;
-      ref.t = std::move(ga.t);
-      ref.q_WB = std::move(ga.q);
-    }
-  }
+  const std::string kind = opt.reference.empty() ? to_string(scene.reference) : opt.reference;
+  report.reference = make_reference(scene, kind,
+                                    opt.reference_rtol.value_or(default_reference_rtol(scene.solver.rtol)),
+                                    opt.out, say);
+  const ReferenceTrajectory& ref = report.reference;
 
   const int total = static_cast<int>(selected.size());
   for (int k = 0; k < total; ++k) {
@@ -200,14 +116,10 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
       row.wall_seconds.push_back(solve_scene(s, dir).wall_seconds);
     row.wall_median = median(row.wall_seconds);
 
-    if (ref.ok) {
-      const auto [final_err, max_err] =
-          orientation_errors(read_grid_orientation(dir / "trajectory.csv"), ref.t, ref.q_WB);
-      row.error_final_rad = row.outcome.run.status == RunStatus::Success ? final_err : kNaN;
-      row.error_max_rad = max_err;
-    } else {
-      row.error_final_rad = row.error_max_rad = kNaN;
-    }
+    row.accuracy = measure_accuracy(s, read_trajectory_csv(dir / "trajectory.csv"), ref,
+                                    row.outcome.run.status == RunStatus::Success);
+    row.error_final_rad = row.accuracy.orientation_rad.final;
+    row.error_max_rad = row.accuracy.orientation_rad.max;
 
     row.lambda_min = row.lambda_max = row.mu_abs_max = kNaN;
     const RunExtremes& x = row.outcome.extremes;
@@ -233,16 +145,7 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
 std::string format_compare_table(const CompareReport& r) {
   std::string s;
   s += fmt::format("rigidae compare: {} ({}), rtol {:g}, atol {:g}\n", r.scene_name, r.scene_source, r.rtol, r.atol);
-  const ReferenceInfo& ref = r.reference;
-  if (ref.ok && ref.exact)
-    s += fmt::format("reference: {}, the closed-form solution (estimated accuracy {:.1e} rad)\n", ref.combination,
-                     ref.accuracy_rad);
-  else if (ref.ok)
-    s += fmt::format("reference: {} at rtol {:g}; its accuracy, estimated as the largest angle to {} at the same "
-                     "rtol over the output grid: {:.1e} rad\n",
-                     ref.combination, ref.rtol, ref.check_combination, ref.accuracy_rad);
-  else
-    s += fmt::format("reference: none ({}); errors are not reported\n", ref.message);
+  s += fmt::format("reference: {}{}\n", r.reference.describe(), r.reference.ok ? "" : "; errors are not reported");
   s += fmt::format("{:<28} {:<8} {:>8} {:>9} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>21} {:>8} {:>8}\n",
                    "combination", "status", "steps", "res.evals", "jacs", "wall s", "max|Phi|", "max|dPhi|",
                    "max|dE/E|", "err end", "err max", "lambda range J", "max|mu|", "restarts");

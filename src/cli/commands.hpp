@@ -8,9 +8,11 @@ namespace rigidae::cli {
 
 int solve_command(const std::vector<std::string>& args);
 int compare_command(const std::vector<std::string>& args);
+int study_command(const std::vector<std::string>& args);
 
 // Help texts, printed by --help.
 extern const char* kSolveHelp;
 extern const char* kCompareHelp;
+extern const char* kStudyHelp;
 
 }  // namespace rigidae::cli

@@ -1,9 +1,6 @@
 // rigidae compare SCENE: every combination side by side, as a table, a CSV
 // and (with --plot) figures drawn by tools/plot_compare.py.
 #include <fmt/format.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -12,6 +9,7 @@
 #include "commands.hpp"
 #include "rigidae/app/compare.hpp"
 #include "rigidae/core/error.hpp"
+#include "plot_script.hpp"
 #include "scene_options.hpp"
 
 namespace rigidae::cli {
@@ -47,38 +45,6 @@ std::vector<std::string> split_list(const std::string& text) {
   while (std::getline(ss, item, ','))
     if (!item.empty()) items.push_back(item);
   return items;
-}
-
-// Runs program with args, waits; returns its exit status (127 if it could not start).
-int run_program(const std::vector<std::string>& argv) {
-  const pid_t pid = fork();
-  if (pid < 0) return 127;
-  if (pid == 0) {
-    std::vector<char*> cargv;
-    for (const auto& a : argv) cargv.push_back(const_cast<char*>(a.c_str()));
-    cargv.push_back(nullptr);
-    execv(cargv[0], cargv.data());
-    _exit(127);
-  }
-  int status = 0;
-  if (waitpid(pid, &status, 0) < 0) return 127;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-}
-
-// tools/plot_compare.py: $RIGIDAE_TOOLS_DIR, the source tree's tools/, or
-// tools/ next to the executable's parent folder.
-std::filesystem::path find_plot_script() {
-  std::vector<std::filesystem::path> dirs;
-  if (const char* env = std::getenv("RIGIDAE_TOOLS_DIR")) dirs.emplace_back(env);
-#ifdef RIGIDAE_TOOLS_DIR
-  dirs.emplace_back(RIGIDAE_TOOLS_DIR);
-#endif
-  std::error_code ec;
-  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (!ec) dirs.push_back(exe.parent_path().parent_path() / "tools");
-  for (const auto& d : dirs)
-    if (std::filesystem::exists(d / "plot_compare.py")) return d / "plot_compare.py";
-  return {};
 }
 
 }  // namespace
@@ -121,21 +87,10 @@ int compare_command(const std::vector<std::string>& args) {
   if (!quiet) fmt::print("{}", format_compare_table(report));
   if (!quiet) fmt::print("outputs: {}/ (compare.csv, compare.txt, compare.md, one folder per combination)\n", opt.out.string());
 
-  std::fflush(stdout);  // the table before the plot script's lines
   if (plot) {
-    const std::filesystem::path script = find_plot_script();
-    const char* python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : nullptr;
-    if (script.empty() || !python)
-      fmt::print(stderr, "rigidae: warning: --plot skipped: {} not found\n",
-                 script.empty() ? "tools/plot_compare.py (set RIGIDAE_TOOLS_DIR)" : "/usr/bin/python3");
-    else {
-      std::vector<std::string> cmd{python, script.string(), opt.out.string()};
-      if (quiet) cmd.push_back("--quiet");
-      const int rc = run_program(cmd);
-      if (rc != 0)
-        fmt::print(stderr, "rigidae: warning: {} exited with {} (needs Debian's python3-matplotlib); the table and "
-                           "CSV are written\n", script.string(), rc);
-    }
+    std::vector<std::string> plot_args{opt.out.string()};
+    if (quiet) plot_args.push_back("--quiet");
+    run_plot_script("plot_compare.py", plot_args);
   }
   if (!report.reference.ok) {
     fmt::print(stderr, "rigidae: error: {}\n", report.reference.message);

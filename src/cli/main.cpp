@@ -21,6 +21,8 @@ constexpr const char* kUsage = R"(rigidae: rigid-body rotation as a DAE, solved 
 Usage:
   rigidae solve SCENE.toml [options]     integrate a scene, write its outputs to a folder
   rigidae compare SCENE.toml [options]   every coordinates x equations x scheme side by side
+  rigidae study [list|run|collect] STUDY.toml [options]
+                                         accuracy studies: a grid of runs, sharded or not
   rigidae --help                         this text
   rigidae --version                      version of rigidae
 
@@ -38,7 +40,7 @@ Exit codes: 0 success, 1 the solver failed or was interrupted (outputs kept),
 void print_help() {
   fmt::print("{}", kUsage);
   fmt::print(fmt::runtime(cli::kSolveHelp), fmt::arg("schemes", cli::valid_list(scheme_names())));
-  fmt::print("\nScene overrides (solve and compare):\n{}\n{}{}", cli::kSceneOptionsHelp, cli::kCompareHelp, kTrailer);
+  fmt::print("\nScene overrides (solve and compare):\n{}\n{}\n{}{}", cli::kSceneOptionsHelp, cli::kCompareHelp, cli::kStudyHelp, kTrailer);
 }
 
 void on_signal(int) { g_interrupt_requested.store(true); }
@@ -59,7 +61,9 @@ int run(int argc, char** argv) {
   const std::vector<std::string> rest(args.begin() + 1, args.end());
   if (args[0] == "solve") return cli::solve_command(rest);
   if (args[0] == "compare") return cli::compare_command(rest);
-  throw InputError(fmt::format("unknown command '{}'; valid commands: solve, compare (see rigidae --help)", args[0]));
+  if (args[0] == "study") return cli::study_command(rest);
+  throw InputError(
+      fmt::format("unknown command '{}'; valid commands: solve, compare, study (see rigidae --help)", args[0]));
 }
 
 }  // namespace

@@ -28,8 +28,10 @@
 #include <toml++/toml.h>
 
 #include "rigidae/core/error.hpp"
+#include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
 #include "rigidae/so3/rotation.hpp"
+#include "toml_reader.hpp"
 
 namespace rigidae::io {
 namespace {
@@ -41,9 +43,9 @@ namespace {
 
 constexpr int kSchemaVersion = 1;
 
-constexpr std::array<std::string_view, 10> kRootKeys{
+constexpr std::array<std::string_view, 11> kRootKeys{
     "schema_version", "name", "description", "body", "support",
-    "gravity", "initial", "time", "formulation", "solver"};
+    "gravity", "initial", "time", "formulation", "solver", "reference"};
 constexpr std::array<std::string_view, 4> kBodyKeys{"mass", "inertia_principal", "inertia",
                                                     "center_of_mass"};
 constexpr std::array<std::string_view, 1> kSupportKeys{"type"};
@@ -65,10 +67,6 @@ constexpr std::array<std::string_view, 6> kSolverKeys{"rtol", "atol", "max_steps
 constexpr std::array<std::string_view, 4> kOrientationForms{"quaternion", "euler", "matrix",
                                                             "axis_angle"};
 
-struct SectionKeys {
-  std::string_view name;
-  std::span<const std::string_view> keys;
-};
 // Used to point a key written in the wrong table to the right one.
 const std::array<SectionKeys, 13> kAllSections{{
     {"", kRootKeys},
@@ -99,252 +97,6 @@ constexpr double kTriangleTol = 1e-12;           // relative to the trace
 constexpr double kUnitTolError = 1e-6;           // | |q| - 1 |, ||R^T R - I||_F
 constexpr double kUnitTolSilent = 1e-12;         // below: fixed without a warning
 
-// ---------------------------------------------------------------------------
-// Small helpers
-// ---------------------------------------------------------------------------
-
-char lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
-
-// Optimal-string-alignment distance (insertions, deletions, substitutions and
-// adjacent transpositions), case-insensitive.
-std::size_t edit_distance(std::string_view a, std::string_view b) {
-  const std::size_t n = a.size(), m = b.size();
-  std::vector<std::vector<std::size_t>> d(n + 1, std::vector<std::size_t>(m + 1));
-  for (std::size_t i = 0; i <= n; ++i) d[i][0] = i;
-  for (std::size_t j = 0; j <= m; ++j) d[0][j] = j;
-  for (std::size_t i = 1; i <= n; ++i) {
-    for (std::size_t j = 1; j <= m; ++j) {
-      const std::size_t cost = lower(a[i - 1]) == lower(b[j - 1]) ? 0 : 1;
-      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
-      if (i > 1 && j > 1 && lower(a[i - 1]) == lower(b[j - 2]) && lower(a[i - 2]) == lower(b[j - 1]))
-        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-    }
-  }
-  return d[n][m];
-}
-
-// The closest option within edit distance 2, if any.
-std::optional<std::string_view> closest(std::string_view word,
-                                        std::span<const std::string_view> options) {
-  std::optional<std::string_view> best;
-  std::size_t best_d = 3;
-  for (auto opt : options) {
-    const std::size_t d = edit_distance(word, opt);
-    if (d < best_d) {
-      best_d = d;
-      best = opt;
-    }
-  }
-  return best;
-}
-
-std::string quoted_list(std::span<const std::string_view> options) {
-  std::string s;
-  for (std::size_t i = 0; i < options.size(); ++i) {
-    if (i > 0) s += (i + 1 == options.size()) ? " or " : ", ";
-    s += fmt::format("'{}'", options[i]);
-  }
-  return s;
-}
-
-std::string type_name(const toml::node& n) {
-  switch (n.type()) {
-    case toml::node_type::table: return "a table";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a float";
-    case toml::node_type::boolean: return "a boolean";
-    case toml::node_type::date: return "a date";
-    case toml::node_type::time: return "a time";
-    case toml::node_type::date_time: return "a date-time";
-    default: return "nothing";
-  }
-}
-
-bool before(const toml::source_position& a, const toml::source_position& b) {
-  return a.line < b.line || (a.line == b.line && a.column < b.column);
-}
-
-std::string join_key(std::string_view table, std::string_view key) {
-  return table.empty() ? std::string(key) : fmt::format("{}.{}", table, key);
-}
-
-std::string table_label(std::string_view table) {
-  return table.empty() ? std::string("the top level") : fmt::format("[{}]", table);
-}
-
-// ---------------------------------------------------------------------------
-// The reader: carries the file name for messages.
-// ---------------------------------------------------------------------------
-
-class Reader {
- public:
-  explicit Reader(std::string file) : file_(std::move(file)) {}
-
-  [[noreturn]] void fail(const toml::source_region& where, const std::string& msg) const {
-    throw InputError(fmt::format("{}: error: {}", location(where), msg));
-  }
-  [[noreturn]] void fail(const toml::node& where, const std::string& msg) const { fail(where.source(), msg); }
-
-  void warn(const toml::node& where, const std::string& msg) const {
-    std::cerr << fmt::format("{}: warning: {}\n", location(where.source()), msg);
-  }
-
-  std::string location(const toml::source_region& where) const {
-    auto line = where.begin.line, col = where.begin.column;
-    if (line == 0) line = col = 1;
-    return fmt::format("{}:{}:{}", file_, line, col);
-  }
-
-  const std::string& file() const { return file_; }
-
-  // --- tables ---------------------------------------------------------------
-
-  // Rejects every key of `tbl` not in `allowed` (the first one in file order),
-  // suggesting the closest allowed key or the table the key belongs in.
-  void check_keys(const toml::table& tbl, std::string_view table,
-                  std::span<const std::string_view> allowed) const {
-    const toml::key* first = nullptr;
-    for (auto&& [k, v] : tbl) {
-      (void)v;
-      if (std::find(allowed.begin(), allowed.end(), k.str()) != allowed.end()) continue;
-      if (!first || before(k.source().begin, first->source().begin)) first = &k;
-    }
-    if (!first) return;
-    const std::string_view word = first->str();
-    std::string msg = fmt::format("unknown key '{}' in {}", word, table_label(table));
-    if (auto best = closest(word, allowed)) {
-      msg += fmt::format("; did you mean '{}'?", *best);
-    } else {
-      for (const auto& sec : kAllSections) {
-        if (sec.name == table) continue;
-        if (std::find(sec.keys.begin(), sec.keys.end(), word) != sec.keys.end()) {
-          msg += fmt::format("; '{}' belongs in {}", word, table_label(sec.name));
-          break;
-        }
-      }
-    }
-    msg += fmt::format(" (valid keys: {})", quoted_list(allowed));
-    fail(first->source(), msg);
-  }
-
-  const toml::table* optional_table(const toml::table& parent, std::string_view parent_name,
-                                    std::string_view key) const {
-    const toml::node* n = parent.get(key);
-    if (!n) return nullptr;
-    if (!n->is_table())
-      fail(*n, fmt::format("'{}' must be a table ([{}] or an inline table {{ ... }}), not {}",
-                           join_key(parent_name, key), join_key(parent_name, key), type_name(*n)));
-    return n->as_table();
-  }
-
-  const toml::table& required_table(const toml::table& parent, std::string_view parent_name,
-                                    std::string_view key) const {
-    const toml::table* t = optional_table(parent, parent_name, key);
-    if (!t)
-      fail(parent.source(), fmt::format("missing required table [{}] in {}",
-                                        join_key(parent_name, key), table_label(parent_name)));
-    return *t;
-  }
-
-  const toml::node& required(const toml::table& tbl, std::string_view table, std::string_view key,
-                             std::string_view what) const {
-    const toml::node* n = tbl.get(key);
-    if (!n)
-      fail(tbl.source(), fmt::format("missing required key '{}' in {} ({})", key,
-                                     table_label(table), what));
-    return *n;
-  }
-
-  // --- scalars --------------------------------------------------------------
-
-  // A finite number; integers are accepted.
-  double number(const toml::node& n, std::string_view name) const {
-    double x = 0.0;
-    if (auto i = n.as_integer()) {
-      x = static_cast<double>(i->get());
-    } else if (auto f = n.as_floating_point()) {
-      x = f->get();
-    } else {
-      fail(n, fmt::format("'{}' must be a number, not {}", name, type_name(n)));
-    }
-    if (!std::isfinite(x))
-      fail(n, fmt::format("'{}' must be a finite number, not {}", name, x));
-    return x;
-  }
-
-  long long integer(const toml::node& n, std::string_view name) const {
-    if (auto i = n.as_integer()) return i->get();
-    if (auto f = n.as_floating_point())
-      fail(n, fmt::format("'{}' must be an integer, not the float {} (write it without a decimal "
-                          "point or exponent)",
-                          name, f->get()));
-    fail(n, fmt::format("'{}' must be an integer, not {}", name, type_name(n)));
-  }
-
-  std::string string(const toml::node& n, std::string_view name) const {
-    if (auto s = n.as_string()) return s->get();
-    fail(n, fmt::format("'{}' must be a string (in double quotes), not {}", name, type_name(n)));
-  }
-
-  bool boolean(const toml::node& n, std::string_view name) const {
-    if (auto b = n.as_boolean()) return b->get();
-    fail(n, fmt::format("'{}' must be a boolean (true or false), not {}", name, type_name(n)));
-  }
-
-  // One of `options`; returns its index.
-  std::size_t choice(const toml::node& n, std::string_view name,
-                     std::span<const std::string_view> options) const {
-    const std::string s = string(n, name);
-    for (std::size_t i = 0; i < options.size(); ++i)
-      if (options[i] == s) return i;
-    std::string msg = fmt::format("'{}' = \"{}\" is not valid", name, s);
-    if (auto best = closest(s, options)) msg += fmt::format("; did you mean \"{}\"?", *best);
-    msg += fmt::format(" (valid: {})", quoted_list(options));
-    fail(n, msg);
-  }
-
-  // --- arrays ---------------------------------------------------------------
-
-  const toml::array& array(const toml::node& n, std::string_view name, std::size_t size,
-                           std::string_view what) const {
-    const toml::array* a = n.as_array();
-    if (!a) fail(n, fmt::format("'{}' must be an array of {} {}, not {}", name, size, what, type_name(n)));
-    if (a->size() != size)
-      fail(n, fmt::format("'{}' must have exactly {} {}, it has {}", name, size, what, a->size()));
-    return *a;
-  }
-
-  template <int N>
-  Eigen::Matrix<double, N, 1> vector(const toml::node& n, std::string_view name) const {
-    const toml::array& a = array(n, name, N, "numbers");
-    Eigen::Matrix<double, N, 1> v;
-    for (int i = 0; i < N; ++i) v[i] = number(*a.get(i), fmt::format("{}[{}]", name, i));
-    return v;
-  }
-
-  Vec3 vec3(const toml::node& n, std::string_view name) const { return vector<3>(n, name); }
-
-  // Rows of a 3x3 matrix; `elements`, if non-null, receives the element nodes.
-  Mat3 mat3(const toml::node& n, std::string_view name,
-            std::array<std::array<const toml::node*, 3>, 3>* elements = nullptr) const {
-    const toml::array& rows = array(n, name, 3, "rows (3 arrays of 3 numbers)");
-    Mat3 M;
-    for (int i = 0; i < 3; ++i) {
-      const std::string row_name = fmt::format("{}[{}]", name, i);
-      const toml::array& row = array(*rows.get(i), row_name, 3, "numbers");
-      for (int j = 0; j < 3; ++j) {
-        M(i, j) = number(*row.get(j), fmt::format("{}[{}][{}]", name, i, j));
-        if (elements) (*elements)[i][j] = row.get(j);
-      }
-    }
-    return M;
-  }
-
- private:
-  std::string file_;
-};
 
 std::string fmt_vec(const Vec3& v) { return fmt::format("({}, {}, {})", v[0], v[1], v[2]); }
 
@@ -358,9 +110,9 @@ struct InertiaSource {
   const char* name = "";
 };
 
-InertiaSource read_body(const Reader& r, const toml::table& root, Scene& scene) {
+InertiaSource read_body(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table& body = r.required_table(root, "", "body");
-  r.check_keys(body, "body", kBodyKeys);
+  r.check_keys(body, "body", kBodyKeys, kAllSections);
 
   const toml::node& mass_node = r.required(body, "body", "mass", "kg, > 0");
   const double mass = r.number(mass_node, "body.mass");
@@ -435,7 +187,7 @@ std::string fmt_moments(const Vec3& J) { return fmt::format("J1 = {}, J2 = {}, J
 // of the material points, and the linear-coordinate formulation has a
 // singular mass matrix. The reference point is the one the body rotates
 // about: the fixed point of a top, the centre of mass of a free body.
-void check_triangle_inequality(const Reader& r, const InertiaSource& src, const Scene& scene) {
+void check_triangle_inequality(const TomlReader& r, const InertiaSource& src, const Scene& scene) {
   const Mat3& Ic = scene.body.inertia_com;
   const Vec3 Jc = Eigen::SelfAdjointEigenSolver<Mat3>(Ic).eigenvalues();
   const double trace_c = Jc.sum();
@@ -476,20 +228,20 @@ void check_triangle_inequality(const Reader& r, const InertiaSource& src, const 
   }
 }
 
-void read_support(const Reader& r, const toml::table& root, Scene& scene) {
+void read_support(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* sup = r.optional_table(root, "", "support");
   if (!sup) return;
-  r.check_keys(*sup, "support", kSupportKeys);
+  r.check_keys(*sup, "support", kSupportKeys, kAllSections);
   if (const toml::node* t = sup->get("type")) {
     constexpr std::array<std::string_view, 2> opts{"fixed_point", "free"};
     scene.support = r.choice(*t, "support.type", opts) == 0 ? Support::FixedPoint : Support::Free;
   }
 }
 
-void read_gravity(const Reader& r, const toml::table& root, Scene& scene) {
+void read_gravity(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* g = r.optional_table(root, "", "gravity");
   if (!g) return;
-  r.check_keys(*g, "gravity", kGravityKeys);
+  r.check_keys(*g, "gravity", kGravityKeys, kAllSections);
   if (const toml::node* a = g->get("acceleration")) {
     const Vec3 acc = r.vec3(*a, "gravity.acceleration");
     if (acc.norm() > kMaxGravity)
@@ -500,14 +252,14 @@ void read_gravity(const Reader& r, const toml::table& root, Scene& scene) {
   }
 }
 
-bool read_convention(const Reader& r, const toml::table& tbl, std::string_view table) {
+bool read_convention(const TomlReader& r, const toml::table& tbl, std::string_view table) {
   const toml::node* c = tbl.get("convention");
   if (!c) return false;
   constexpr std::array<std::string_view, 2> opts{"intrinsic", "extrinsic"};
   return r.choice(*c, join_key(table, "convention"), opts) == 1;
 }
 
-so3::EulerSequence read_sequence(const Reader& r, const toml::node& n, std::string_view name,
+so3::EulerSequence read_sequence(const TomlReader& r, const toml::node& n, std::string_view name,
                                  bool extrinsic, Vec3* angles) {
   const std::string letters = r.string(n, name);
   try {
@@ -517,7 +269,7 @@ so3::EulerSequence read_sequence(const Reader& r, const toml::node& n, std::stri
   }
 }
 
-Mat3 read_orientation(const Reader& r, const toml::table& init) {
+Mat3 read_orientation(const TomlReader& r, const toml::table& init) {
   const toml::node* form = nullptr;
   std::string_view form_name;
   for (auto name : kOrientationForms) {
@@ -581,7 +333,7 @@ Mat3 read_orientation(const Reader& r, const toml::table& init) {
                                 "convention = \"intrinsic\", angles = [0.1, 0.2, 0.3] }}, not {}",
                                 type_name(*form)));
     const toml::table& e = *form->as_table();
-    r.check_keys(e, "initial.euler", kInitialEulerKeys);
+    r.check_keys(e, "initial.euler", kInitialEulerKeys, kAllSections);
     const toml::node& seq_node =
         r.required(e, "initial.euler", "sequence", "three axis letters such as \"zxz\" or \"zyx\"");
     const toml::node& angles_node =
@@ -598,7 +350,7 @@ Mat3 read_orientation(const Reader& r, const toml::table& init) {
                               "1.0], angle = 0.5 }}, not {}",
                               type_name(*form)));
   const toml::table& aa = *form->as_table();
-  r.check_keys(aa, "initial.axis_angle", kAxisAngleKeys);
+  r.check_keys(aa, "initial.axis_angle", kAxisAngleKeys, kAllSections);
   const toml::node& axis_node =
       r.required(aa, "initial.axis_angle", "axis", "[x, y, z], any non-zero length");
   const toml::node& angle_node = r.required(aa, "initial.axis_angle", "angle", "rad");
@@ -611,9 +363,9 @@ Mat3 read_orientation(const Reader& r, const toml::table& init) {
   return so3::axis_angle_to_matrix(axis / len, angle);
 }
 
-void read_initial(const Reader& r, const toml::table& root, Scene& scene) {
+void read_initial(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table& init = r.required_table(root, "", "initial");
-  r.check_keys(init, "initial", kInitialKeys);
+  r.check_keys(init, "initial", kInitialKeys, kAllSections);
   scene.R0_WB = read_orientation(r, init);
 
   const toml::node& w_node =
@@ -631,9 +383,9 @@ void read_initial(const Reader& r, const toml::table& root, Scene& scene) {
   scene.omega0_B = space ? Vec3(scene.R0_WB.transpose() * w) : w;
 }
 
-void read_time(const Reader& r, const toml::table& root, Scene& scene) {
+void read_time(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table& t = r.required_table(root, "", "time");
-  r.check_keys(t, "time", kTimeKeys);
+  r.check_keys(t, "time", kTimeKeys, kAllSections);
   double start = 0.0;
   if (const toml::node* s = t.get("start")) start = r.number(*s, "time.start");
   const toml::node& end_node = r.required(t, "time", "end", "s, > start");
@@ -656,10 +408,10 @@ void read_time(const Reader& r, const toml::table& root, Scene& scene) {
   scene.time.output_step = step;
 }
 
-void read_euler_charts(const Reader& r, const toml::table& f, EulerChartSpec& euler) {
+void read_euler_charts(const TomlReader& r, const toml::table& f, EulerChartSpec& euler) {
   const toml::table* ea = r.optional_table(f, "formulation", "euler_angles");
   if (!ea) return;
-  r.check_keys(*ea, "formulation.euler_angles", kEulerAnglesKeys);
+  r.check_keys(*ea, "formulation.euler_angles", kEulerAnglesKeys, kAllSections);
   const bool extrinsic = read_convention(r, *ea, "formulation.euler_angles");
   if (const toml::node* s = ea->get("sequence")) {
     const std::string letters = r.string(*s, "formulation.euler_angles.sequence");
@@ -680,10 +432,10 @@ void read_euler_charts(const Reader& r, const toml::table& f, EulerChartSpec& eu
   }
 }
 
-void read_baumgarte(const Reader& r, const toml::table& f, BaumgarteGains& gains) {
+void read_baumgarte(const TomlReader& r, const toml::table& f, BaumgarteGains& gains) {
   const toml::table* b = r.optional_table(f, "formulation", "baumgarte");
   if (!b) return;
-  r.check_keys(*b, "formulation.baumgarte", kBaumgarteKeys);
+  r.check_keys(*b, "formulation.baumgarte", kBaumgarteKeys, kAllSections);
   for (const char* key : {"a", "b"}) {
     const toml::node* n = b->get(key);
     if (!n) continue;
@@ -696,10 +448,10 @@ void read_baumgarte(const Reader& r, const toml::table& f, BaumgarteGains& gains
   }
 }
 
-void read_projection(const Reader& r, const toml::table& f, ProjectionSpec& spec) {
+void read_projection(const TomlReader& r, const toml::table& f, ProjectionSpec& spec) {
   const toml::table* p = r.optional_table(f, "formulation", "projection");
   if (!p) return;
-  r.check_keys(*p, "formulation.projection", kProjectionKeys);
+  r.check_keys(*p, "formulation.projection", kProjectionKeys, kAllSections);
   if (const toml::node* w = p->get("when")) {
     constexpr std::array<std::string_view, 2> opts{"threshold", "every_step"};
     spec.every_step = r.choice(*w, "formulation.projection.when", opts) == 1;
@@ -713,10 +465,10 @@ void read_projection(const Reader& r, const toml::table& f, ProjectionSpec& spec
   }
 }
 
-void read_formulation(const Reader& r, const toml::table& root, Scene& scene) {
+void read_formulation(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* f = r.optional_table(root, "", "formulation");
   if (!f) return;
-  r.check_keys(*f, "formulation", kFormulationKeys);
+  r.check_keys(*f, "formulation", kFormulationKeys, kAllSections);
   Formulation& form = scene.formulation;
   if (const toml::node* c = f->get("coordinates")) {
     constexpr std::array<std::string_view, 3> opts{"euler", "quaternion", "linear"};
@@ -741,10 +493,10 @@ void read_formulation(const Reader& r, const toml::table& root, Scene& scene) {
   read_projection(r, *f, form.projection);
 }
 
-void read_solver(const Reader& r, const toml::table& root, Scene& scene) {
+void read_solver(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* s = r.optional_table(root, "", "solver");
   if (!s) return;
-  r.check_keys(*s, "solver", kSolverKeys);
+  r.check_keys(*s, "solver", kSolverKeys, kAllSections);
   SolverSettings& sol = scene.solver;
   if (const toml::node* n = s->get("rtol")) {
     const double v = r.number(*n, "solver.rtol");
@@ -778,21 +530,40 @@ void read_solver(const Reader& r, const toml::table& root, Scene& scene) {
   }
 }
 
-Scene read_scene(const Reader& r, const toml::table& root) {
+// After everything else: whether an exact solution exists depends on the
+// whole scene.
+void read_reference_kind(const TomlReader& r, const toml::table& root, Scene& scene) {
+  const toml::node* n = root.get("reference");
+  if (!n) return;
+  static constexpr std::array<std::string_view, 3> kKinds{"auto", "exact", "tight"};
+  scene.reference = static_cast<ReferenceKind>(r.choice(*n, "reference", kKinds));
+  if (scene.reference != ReferenceKind::Exact) return;
+  std::string why;
+  try {
+    if (exact::make_exact_solution(scene, &why)) return;
+  } catch (const std::invalid_argument& e) {
+    why = e.what();
+  }
+  r.fail(*n, fmt::format("'reference' = \"exact\" but this scene has no closed-form solution: {} (use \"auto\" "
+                         "or \"tight\" for a tight run of quaternion/euler/ggl)",
+                         why));
+}
+
+Scene read_scene(const TomlReader& r, const toml::table& root) {
   Scene scene;
   scene.source = r.file();
 
   // The version first: a file of another version should fail on that, not on
   // the keys it renamed.
   // (Unless it is missing: then a misspelt key is the likelier cause.)
-  if (!root.get("schema_version")) r.check_keys(root, "", kRootKeys);
+  if (!root.get("schema_version")) r.check_keys(root, "", kRootKeys, kAllSections);
   const toml::node& ver = r.required(root, "", "schema_version", "schema_version = 1");
   const long long version = r.integer(ver, "schema_version");
   if (version != kSchemaVersion)
     r.fail(ver, fmt::format("unsupported schema_version {}; this version of rigidae reads "
                             "schema_version = {}",
                             version, kSchemaVersion));
-  r.check_keys(root, "", kRootKeys);
+  r.check_keys(root, "", kRootKeys, kAllSections);
 
   scene.name = std::filesystem::path(r.file()).stem().string();
   if (const toml::node* n = root.get("name")) {
@@ -809,13 +580,14 @@ Scene read_scene(const Reader& r, const toml::table& root) {
   read_time(r, root, scene);
   read_formulation(r, root, scene);
   read_solver(r, root, scene);
+  read_reference_kind(r, root, scene);
   return scene;
 }
 
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& source_name) {
-  const Reader reader(source_name);
+  const TomlReader reader(source_name);
   toml::table root;
   try {
     root = toml::parse(std::string_view(text), std::string_view(source_name));

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "rigidae/app/accuracy.hpp"
+#include "rigidae/app/reference.hpp"
 #include "rigidae/app/solve.hpp"
 #include "rigidae/model/scene.hpp"
 
@@ -40,25 +42,9 @@ struct CompareOptions {
   int repeat = 3;                     // wall time: median of this many runs
   std::vector<std::string> only, skip;
   std::filesystem::path out;
-  std::optional<double> reference_rtol;  // default: rtol / 100, clamped to [1e-13, 1e-12]
-  // "auto": the closed-form solution when the scene has one, else "tight".
-  // "exact": the closed form, or an InputError saying why there is none.
-  // "tight": tight runs of quaternion/euler/ggl, checked against Euler angles.
-  std::string reference = "auto";
-};
-
-// The reference: a closed-form solution (exact/), or a tight run of one
-// combination whose accuracy is estimated by the largest angle to a tight run
-// in different coordinates.
-struct ReferenceInfo {
-  bool exact = false;                   // a closed form, not a run
-  std::string combination, check_combination;  // for an exact reference: its name, empty
-  double rtol = 0.0;
-  bool ok = false;
-  std::string message;                  // why it failed, if it did
-  double accuracy_rad = 0.0;            // max angle between the two over the output grid
-  std::vector<double> t;                // output grid
-  std::vector<Vec4> q_WB;               // reference orientation on it
+  std::optional<double> reference_rtol;  // default: default_reference_rtol(rtol)
+  // "auto", "exact" or "tight" (see make_reference); empty: the scene's choice.
+  std::string reference;
 };
 
 struct CompareRow {
@@ -68,6 +54,7 @@ struct CompareRow {
   double wall_median = 0.0;
   double error_final_rad = 0.0;   // NaN when the run did not reach the end or there is no reference
   double error_max_rad = 0.0;     // over the output grid points the run reached
+  RunAccuracy accuracy;           // every error group
   double lambda_min = 0.0, lambda_max = 0.0;  // J, NaN without force multipliers
   double mu_abs_max = 0.0;                    // 1/s, NaN without kinematic multipliers
 };
@@ -75,7 +62,7 @@ struct CompareRow {
 struct CompareReport {
   std::string scene_name, scene_source;
   double rtol = 0.0, atol = 0.0;
-  ReferenceInfo reference;
+  ReferenceTrajectory reference;
   std::vector<CompareRow> rows;
 };
 

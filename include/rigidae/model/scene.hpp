@@ -18,6 +18,9 @@ enum class Support { FixedPoint, Free };
 enum class Coordinates { EulerAngles, Quaternion, Linear };
 enum class Equations { Lagrange, Euler };
 enum class AngularVelocityFrame { Body, Space };
+// What accuracy is measured against: the closed-form solution (exact/) when
+// the scene has one (Auto), insisted on (Exact), or a tight run (Tight).
+enum class ReferenceKind { Auto, Exact, Tight };
 
 struct RigidBodySpec {
   double mass = 1.0;                    // kg, > 0
@@ -85,6 +88,7 @@ struct Scene {
   TimeGrid time;
   Formulation formulation;
   SolverSettings solver;
+  ReferenceKind reference = ReferenceKind::Auto;  // for compare and study
 };
 
 // The Baumgarte gains a run uses, (a, b) in 1/s. Unset ones default to the

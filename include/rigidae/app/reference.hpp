@@ -1,0 +1,51 @@
+#pragma once
+// The reference a run's accuracy is measured against, on the scene's output
+// grid: the closed-form solution when the scene has one (exact/), or a tight
+// run of quaternion/euler/ggl whose accuracy is estimated by the largest angle
+// to a tight run in Euler angles (other coordinates, no constraint).
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rigidae/core/types.hpp"
+#include "rigidae/model/scene.hpp"
+
+namespace rigidae {
+
+struct ReferenceTrajectory {
+  bool ok = false;
+  std::string message;  // why there is none, when !ok
+  bool exact = false;   // a closed form, not a run
+  std::string combination;        // "exact: NAME" or the tight run's combination
+  std::string check_combination;  // the cross-check run's (tight only)
+  double rtol = 0.0;              // of the tight runs
+  double accuracy_rad = 0.0;      // estimated orientation accuracy over the grid
+  std::vector<double> t;          // the scene's output grid
+  std::vector<Vec4> q_WB;         // orientation on it
+  std::vector<Vec3> omega_B;      // angular velocity on it, rad/s
+
+  // One line for reports.
+  std::string describe() const;
+};
+
+// The default tight rtol for a run tolerance: rtol / 100 in [1e-13, 1e-12].
+double default_reference_rtol(double rtol);
+
+// kind: "auto" (closed form if the scene has one, else tight), "exact" (the
+// closed form, or an InputError saying why there is none), "tight".
+// Tight runs go into dir/reference and dir/reference-check, and the result is
+// summarised in dir/reference.json so that read_reference can reuse it.
+ReferenceTrajectory make_reference(const Scene& scene, const std::string& kind, double tight_rtol,
+                                   const std::filesystem::path& dir,
+                                   const std::function<void(const std::string&)>& progress);
+
+// A tight reference that make_reference wrote into dir earlier; nullopt when
+// dir holds none.
+std::optional<ReferenceTrajectory> read_reference(const std::filesystem::path& dir);
+
+// The kind a scene asks for ("auto", "exact" or "tight").
+std::string to_string(ReferenceKind k);
+
+}  // namespace rigidae

@@ -1,0 +1,179 @@
+// Study files: TOML, schema_version 1 (docs/studies.md).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "../io/toml_reader.hpp"
+#include "rigidae/app/study.hpp"
+#include "rigidae/io/scene_loader.hpp"
+
+namespace rigidae {
+
+namespace {
+
+using io::SectionKeys;
+using io::TomlReader;
+
+constexpr std::array<std::string_view, 9> kRootKeys{"schema_version", "name",           "description",
+                                                    "scenes",         "reference",      "reference_rtol",
+                                                    "targets",        "grid",           "timing"};
+constexpr std::array<std::string_view, 5> kGridKeys{"combinations", "skip", "rtol", "atol", "atol_ratio"};
+constexpr std::array<std::string_view, 2> kTimingKeys{"warmups", "repeats"};
+const std::array<SectionKeys, 3> kSchema{{{"", kRootKeys}, {"grid", kGridKeys}, {"timing", kTimingKeys}}};
+
+const toml::array& array_of(const TomlReader& r, const toml::node& n, std::string_view name, std::string_view what) {
+  const toml::array* a = n.as_array();
+  if (!a) r.fail(n, fmt::format("'{}' must be an array of {}, not {}", name, what, io::type_name(n)));
+  if (a->empty()) r.fail(n, fmt::format("'{}' must not be empty", name));
+  return *a;
+}
+
+std::vector<std::string> strings(const TomlReader& r, const toml::node& n, std::string_view name) {
+  std::vector<std::string> v;
+  const toml::array& a = array_of(r, n, name, "strings");
+  for (std::size_t i = 0; i < a.size(); ++i) v.push_back(r.string(*a.get(i), fmt::format("{}[{}]", name, i)));
+  return v;
+}
+
+// Numbers in (0, 1), distinct.
+std::vector<double> tolerances(const TomlReader& r, const toml::node& n, std::string_view name) {
+  std::vector<double> v;
+  const toml::array& a = array_of(r, n, name, "numbers in (0, 1)");
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const toml::node& e = *a.get(i);
+    const std::string item = fmt::format("{}[{}]", name, i);
+    const double x = r.number(e, item);
+    if (!(x > 0.0 && x < 1.0)) r.fail(e, fmt::format("'{}' = {} must be in (0, 1)", item, x));
+    if (std::find(v.begin(), v.end(), x) != v.end()) r.fail(e, fmt::format("'{}' = {:g} is listed twice", item, x));
+    v.push_back(x);
+  }
+  return v;
+}
+
+void check_patterns(const TomlReader& r, const toml::node& n, const std::vector<std::string>& patterns,
+                    std::string_view name) {
+  const std::vector<Combination> all = all_combinations();
+  for (std::size_t i = 0; i < patterns.size(); ++i) {
+    if (patterns[i] == "all") continue;
+    if (std::none_of(all.begin(), all.end(), [&](const Combination& c) { return matches(c, patterns[i]); }))
+      r.fail(*n.as_array()->get(i),
+             fmt::format("'{}[{}]' = \"{}\" matches no combination (patterns: a glob over "
+                         "coordinates/equations/scheme such as \"quaternion/*/ggl\", a word such as \"ggl\", "
+                         "or \"all\")",
+                         name, i, patterns[i]));
+  }
+}
+
+StudySpec read_study(const TomlReader& r, const toml::table& root) {
+  StudySpec spec;
+  spec.source = r.file();
+  if (!root.get("schema_version")) r.check_keys(root, "", kRootKeys, kSchema);
+  const toml::node& ver = r.required(root, "", "schema_version", "schema_version = 1");
+  if (r.integer(ver, "schema_version") != 1)
+    r.fail(ver, "unsupported schema_version; this version of rigidae reads study files with schema_version = 1");
+  r.check_keys(root, "", kRootKeys, kSchema);
+
+  spec.name = std::filesystem::path(r.file()).stem().string();
+  if (const toml::node* n = root.get("name")) {
+    spec.name = r.string(*n, "name");
+    const bool safe = !spec.name.empty() && std::all_of(spec.name.begin(), spec.name.end(), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+    });
+    if (!safe) r.fail(*n, "'name' must be a non-empty folder name (letters, digits, '_', '-', '.')");
+  }
+  if (const toml::node* n = root.get("description")) spec.description = r.string(*n, "description");
+
+  const toml::node& scenes = r.required(root, "", "scenes", "scene files, relative to the study file");
+  const std::vector<std::string> files = strings(r, scenes, "scenes");
+  const std::filesystem::path base = std::filesystem::path(r.file()).parent_path();
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const std::filesystem::path p = base / files[i];
+    const toml::node& e = *scenes.as_array()->get(i);
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(p, ec))
+      r.fail(e, fmt::format("scene file '{}' (scenes[{}], relative to the study file) does not exist", p.string(), i));
+    spec.scenes.push_back(io::load_scene(p.lexically_normal().string()));
+    for (std::size_t k = 0; k + 1 < spec.scenes.size(); ++k)
+      if (spec.scenes[k].name == spec.scenes.back().name)
+        r.fail(e, fmt::format("two scenes are named '{}': run folders are named by scene, so names must differ",
+                              spec.scenes.back().name));
+  }
+
+  if (const toml::node* n = root.get("reference")) {
+    static constexpr std::array<std::string_view, 3> kKinds{"auto", "exact", "tight"};
+    spec.reference = std::string(kKinds[r.choice(*n, "reference", kKinds)]);
+  }
+  if (const toml::node* n = root.get("reference_rtol")) {
+    const double x = r.number(*n, "reference_rtol");
+    if (!(x > 0.0 && x < 1.0)) r.fail(*n, fmt::format("'reference_rtol' = {} must be in (0, 1)", x));
+    spec.reference_rtol = x;
+  }
+  if (const toml::node* n = root.get("targets")) spec.targets = tolerances(r, *n, "targets");
+
+  const toml::table& grid = r.required_table(root, "", "grid");
+  r.check_keys(grid, "grid", kGridKeys, kSchema);
+  if (const toml::node* n = grid.get("combinations")) {
+    spec.only = strings(r, *n, "grid.combinations");
+    check_patterns(r, *n, spec.only, "grid.combinations");
+    if (std::find(spec.only.begin(), spec.only.end(), "all") != spec.only.end()) spec.only.clear();
+  }
+  if (const toml::node* n = grid.get("skip")) {
+    spec.skip = strings(r, *n, "grid.skip");
+    check_patterns(r, *n, spec.skip, "grid.skip");
+  }
+  spec.rtols = tolerances(r, r.required(grid, "grid", "rtol", "relative tolerances in (0, 1)"), "grid.rtol");
+  if (const toml::node* n = grid.get("atol")) {
+    if (n->is_string()) {
+      if (r.string(*n, "grid.atol") != "rtol")
+        r.fail(*n, "'grid.atol' must be \"rtol\" (tied: atol = atol_ratio * rtol) or a number > 0");
+    } else {
+      spec.atol_tied = false;
+      spec.atol = r.number(*n, "grid.atol");
+      if (!(spec.atol > 0.0)) r.fail(*n, fmt::format("'grid.atol' = {} must be > 0", spec.atol));
+    }
+  }
+  if (const toml::node* n = grid.get("atol_ratio")) {
+    if (!spec.atol_tied) r.fail(*n, "'grid.atol_ratio' applies only with atol = \"rtol\"");
+    spec.atol_ratio = r.number(*n, "grid.atol_ratio");
+    if (!(spec.atol_ratio > 0.0)) r.fail(*n, fmt::format("'grid.atol_ratio' = {} must be > 0", spec.atol_ratio));
+  }
+
+  if (const toml::table* t = r.optional_table(root, "", "timing")) {
+    r.check_keys(*t, "timing", kTimingKeys, kSchema);
+    auto count = [&](const char* key, int lo, int& into) {
+      const toml::node* n = t->get(key);
+      if (!n) return;
+      const long long v = r.integer(*n, fmt::format("timing.{}", key));
+      if (v < lo || v > 1000) r.fail(*n, fmt::format("'timing.{}' = {} must be an integer from {} to 1000", key, v, lo));
+      into = static_cast<int>(v);
+    };
+    count("warmups", 0, spec.warmups);
+    count("repeats", 1, spec.repeats);
+  }
+  return spec;
+}
+
+}  // namespace
+
+StudySpec load_study(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::error_code ec;
+  if (!in || std::filesystem::is_directory(path, ec))
+    throw InputError(fmt::format("{}: error: cannot read study file '{}'", path, path));
+  std::ostringstream buf;
+  buf << in.rdbuf();
+  const TomlReader reader(path);
+  toml::table root;
+  try {
+    root = toml::parse(buf.str(), std::string_view(path));
+  } catch (const toml::parse_error& e) {
+    reader.fail(e.source(), fmt::format("invalid TOML: {}", e.description()));
+  }
+  return read_study(reader, root);
+}
+
+}  // namespace rigidae

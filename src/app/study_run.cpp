@@ -1,0 +1,184 @@
+// Executing a study's runs: each timed over repeats, measured against its
+// scene's reference, written under a temporary name and renamed when complete.
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "rigidae/app/accuracy.hpp"
+#include "rigidae/app/reference.hpp"
+#include "rigidae/app/solve.hpp"
+#include "rigidae/app/study.hpp"
+#include "rigidae/core/error.hpp"
+#include "rigidae/record/trajectory_csv.hpp"
+#include "rigidae/solver/ida_driver.hpp"
+
+namespace rigidae {
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// JSON has no NaN: unmeasured values become null.
+json number(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+json stats(const ErrorStats& e) { return {{"final", number(e.final)}, {"l2", number(e.l2)}, {"max", number(e.max)}}; }
+
+// A name no other process writing into the same OUT will pick.
+fs::path temporary_name(const fs::path& final_path) {
+  char host[256] = "host";
+  gethostname(host, sizeof host - 1);
+  return final_path.parent_path() / fmt::format(".{}.tmp-{}-{}", final_path.filename().string(), host, getpid());
+}
+
+// Moves a finished folder into place. Another worker may have finished the
+// same run (or reference) meanwhile: then its folder stands and ours goes.
+void publish(const fs::path& tmp, const fs::path& final_path) {
+  std::error_code ec;
+  fs::rename(tmp, final_path, ec);
+  if (ec) {
+    if (!fs::exists(final_path)) throw InputError(fmt::format("cannot move {} to {}: {}", tmp.string(), final_path.string(), ec.message()));
+    fs::remove_all(tmp, ec);
+  }
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+// The references of a study's scenes, made once per process and shared
+// between processes through OUT/reference/SCENE.
+class StudyReferences {
+ public:
+  StudyReferences(const StudySpec& spec, fs::path out) : spec_(spec), out_(std::move(out)) {}
+
+  const ReferenceTrajectory& of(std::size_t scene) {
+    auto it = cache_.find(scene);
+    if (it != cache_.end()) return it->second;
+    const Scene& s = spec_.scenes[scene];
+    const std::string kind = spec_.reference.empty() ? to_string(s.reference) : spec_.reference;
+    const double smallest = *std::min_element(spec_.rtols.begin(), spec_.rtols.end());
+    const double rtol = spec_.reference_rtol.value_or(default_reference_rtol(smallest));
+    const fs::path dir = out_ / "reference" / s.name;
+    std::optional<ReferenceTrajectory> ref = kind == "exact" ? std::nullopt : read_reference(dir);
+    if (!ref) {
+      fs::create_directories(dir.parent_path());
+      const fs::path tmp = temporary_name(dir);
+      ref = make_reference(s, kind, rtol, tmp, nullptr);
+      if (ref->exact) {
+        std::error_code ec;
+        fs::remove_all(tmp, ec);
+      } else {
+        publish(tmp, dir);
+      }
+    }
+    return cache_.emplace(scene, std::move(*ref)).first->second;
+  }
+
+ private:
+  const StudySpec& spec_;
+  fs::path out_;
+  std::map<std::size_t, ReferenceTrajectory> cache_;
+};
+
+json run_record(const StudySpec& spec, const StudyRun& run, const SolveOutcome& o, const std::vector<double>& wall,
+                const RunAccuracy& acc, const ReferenceTrajectory& ref) {
+  const IdaCounters& c = o.run.counters;
+  return {
+      {"id", run.id(spec)},
+      {"study", spec.name},
+      {"scene", spec.scenes[run.scene].name},
+      {"scene_source", spec.scenes[run.scene].source},
+      {"combination", run.combination.name()},
+      {"coordinates", to_string(run.combination.coordinates)},
+      {"equations", to_string(run.combination.equations)},
+      {"scheme", run.combination.scheme},
+      {"rtol", run.rtol},
+      {"atol", run.atol},
+      {"status", to_string(o.run.status)},
+      {"message", o.run.message},
+      {"warmups", spec.warmups},
+      {"wall_s", wall},
+      {"wall_min_s", *std::min_element(wall.begin(), wall.end())},
+      {"wall_median_s", median(wall)},
+      {"counters",
+       {{"steps", c.steps},
+        {"residual_evals", c.residual_evals},
+        {"jacobian_residual_evals", c.jacobian_residual_evals},
+        {"jacobian_evals", c.jacobian_evals},
+        {"nonlinear_iters", c.nonlinear_iters},
+        {"error_test_fails", c.error_test_fails},
+        {"nonlinear_conv_fails", c.nonlinear_conv_fails},
+        {"restarts", c.restarts},
+        {"projections", c.projections},
+        {"chart_switches", o.run.switches.size()}}},
+      {"drift",
+       {{"max_position", number(o.extremes.max_drift_position)},
+        {"max_velocity", number(o.extremes.max_drift_velocity)},
+        {"max_abs_energy_rel_error", number(o.extremes.max_abs_energy_error)}}},
+      {"errors",
+       {{"orientation_rad", stats(acc.orientation_rad)},
+        {"angular_velocity_rad_s", stats(acc.angular_velocity)},
+        {"lambda", stats(acc.lambda)},
+        {"mu", stats(acc.mu)},
+        {"scd", number(acc.scd)},
+        {"mescd", number(acc.mescd)},
+        {"points_compared", acc.points_compared}}},
+      {"reference", ref.describe()},
+      {"reference_accuracy_rad", number(ref.accuracy_rad)},
+  };
+}
+
+}  // namespace
+
+bool run_study(const StudySpec& spec, const std::vector<StudyRun>& runs, const StudyRunOptions& opt) {
+  StudyReferences references(spec, opt.out);
+  StudyProgress p;
+  p.total = static_cast<int>(runs.size());
+  for (const StudyRun& run : runs) {
+    if (g_interrupt_requested.load()) return false;
+    const fs::path final_path = run_folder(opt.out, spec, run);
+    p.last = run.id(spec);
+    if (run_complete(opt.out, spec, run)) {
+      ++p.done, ++p.skipped;
+      if (opt.progress) opt.progress(p);
+      continue;
+    }
+    const ReferenceTrajectory& ref = references.of(run.scene);
+    const Scene scene = run.scene_for(spec);
+    fs::create_directories(final_path.parent_path());
+    const fs::path tmp = temporary_name(final_path);
+    std::error_code ec;
+    fs::remove_all(tmp, ec);
+
+    SolveOutcome outcome;
+    std::vector<double> wall;
+    // Warm-ups and repeats time the same work; a run that fails is not repeated.
+    for (int k = 0; k < spec.warmups + spec.repeats; ++k) {
+      outcome = solve_scene(scene, tmp);
+      if (outcome.run.status == RunStatus::Interrupted) {
+        fs::remove_all(tmp, ec);
+        return false;
+      }
+      if (k >= spec.warmups || outcome.run.status != RunStatus::Success) wall.push_back(outcome.wall_seconds);
+      if (outcome.run.status != RunStatus::Success) break;
+    }
+    const RunAccuracy acc = measure_accuracy(scene, read_trajectory_csv(tmp / "trajectory.csv"), ref,
+                                             outcome.run.status == RunStatus::Success);
+    std::ofstream(tmp / "run.json") << run_record(spec, run, outcome, wall, acc, ref).dump(2) << "\n";
+    publish(tmp, final_path);
+    ++p.done;
+    if (outcome.run.status != RunStatus::Success) ++p.failed;
+    if (opt.progress) opt.progress(p);
+  }
+  return true;
+}
+
+}  // namespace rigidae

@@ -1,0 +1,164 @@
+// rigidae study: accuracy studies over a grid of runs, sharded or in one go.
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "commands.hpp"
+#include "plot_script.hpp"
+#include "rigidae/app/study.hpp"
+#include "rigidae/core/error.hpp"
+
+namespace rigidae::cli {
+
+const char* kStudyHelp = R"(Accuracy studies (study file format: docs/studies.md):
+  rigidae study STUDY.toml            run every run not yet complete, then collect
+  rigidae study list STUDY.toml       print one command per run (for GNU parallel)
+  rigidae study run STUDY.toml        run a slice: --shard i/N (0 <= i < N), or the
+                                      Slurm array task's slice, or one --run ID
+  rigidae study collect STUDY.toml    merge run folders into results.csv and
+                                      best.txt, draw the figures
+Options of 'study':
+  --out DIR               study folder (default: out/STUDY_NAME)
+  --shard i/N             (run) slice i of N: runs k with k % N == i
+  --run ID                (run) one run, by the id 'list' prints
+  --no-plot               (collect) skip the figures (tools/plot_study.py)
+  --partial               (collect) exit 0 even if some runs are missing
+  --quiet                 no progress on stderr
+A complete run (its folder holds run.json) is never redone: rerun the same
+command to resume an interrupted study. Exit codes: 0 done, 1 interrupted or
+(collect) runs missing, 2 bad input.
+)";
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct StudyCommandLine {
+  std::string action = "all";  // all, list, run, collect
+  std::string file;
+  fs::path out;
+  std::optional<Shard> shard;
+  std::string run_id;
+  bool plot = true, partial = false, quiet = false;
+};
+
+StudyCommandLine parse(const std::vector<std::string>& args) {
+  StudyCommandLine c;
+  std::size_t i = 0;
+  if (!args.empty() && (args[0] == "list" || args[0] == "run" || args[0] == "collect")) c.action = args[i++];
+  for (; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= args.size()) throw InputError(fmt::format("option {} needs a value (see rigidae --help)", a));
+      return args[++i];
+    };
+    if (a == "--out") c.out = value();
+    else if (a == "--shard") c.shard = parse_shard(value());
+    else if (a == "--run") c.run_id = value();
+    else if (a == "--no-plot") c.plot = false;
+    else if (a == "--partial") c.partial = true;
+    else if (a == "--quiet") c.quiet = true;
+    else if (!a.empty() && a[0] == '-')
+      throw InputError(fmt::format("unknown option '{}' for study; valid: --out, --shard, --run, --no-plot, "
+                                   "--partial, --quiet (see rigidae --help)", a));
+    else if (c.file.empty()) c.file = a;
+    else throw InputError(fmt::format("unexpected argument '{}': study takes one study file", a));
+  }
+  if (c.file.empty()) throw InputError("study needs a study file: rigidae study [list|run|collect] STUDY.toml");
+  if ((c.shard || !c.run_id.empty()) && c.action != "run")
+    throw InputError("--shard and --run apply to 'rigidae study run' only");
+  if (c.shard && !c.run_id.empty()) throw InputError("give either --shard or --run, not both");
+  return c;
+}
+
+// Progress on stderr: one redrawn line on a terminal, else a line every 10 s.
+class ProgressLine {
+ public:
+  explicit ProgressLine(bool quiet) : quiet_(quiet), tty_(isatty(fileno(stderr))) {}
+  void update(const StudyProgress& p) {
+    if (quiet_) return;
+    const auto now = Clock::now();
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const bool last = p.done == p.total;
+    if (!tty_ && !last && now - last_print_ < std::chrono::seconds(10)) return;
+    last_print_ = now;
+    const std::string line = fmt::format("[{}/{}] {} skipped (complete), {} failed, {:.0f} s | {}", p.done, p.total,
+                                         p.skipped, p.failed, elapsed, p.last);
+    if (tty_) fmt::print(stderr, "\r\033[K{}{}", line, last ? "\n" : "");
+    else fmt::print(stderr, "{}\n", line);
+  }
+
+ private:
+  bool quiet_, tty_;
+  Clock::time_point start_ = Clock::now(), last_print_{};
+};
+
+std::string absolute_path(const fs::path& p) { return fs::absolute(p).lexically_normal().string(); }
+
+int collect(const StudySpec& spec, const StudyCommandLine& c) {
+  std::vector<std::string> missing;
+  const std::string table = collect_study(spec, c.out, &missing);
+  if (!c.quiet) fmt::print("{}results: {}\n", table, (c.out / "results.csv").string());
+  if (c.plot) {
+    std::vector<std::string> args{c.out.string()};
+    if (c.quiet) args.push_back("--quiet");
+    run_plot_script("plot_study.py", args);
+  }
+  if (missing.empty()) return 0;
+  fmt::print(stderr, "rigidae: {} {} of the study have no complete folder yet (first: {}); run them with 'rigidae "
+                     "study run' and collect again\n",
+             missing.size(), missing.size() == 1 ? "run" : "runs", missing.front());
+  return c.partial ? 0 : 1;
+}
+
+}  // namespace
+
+int study_command(const std::vector<std::string>& args) {
+  StudyCommandLine c = parse(args);
+  const StudySpec spec = load_study(c.file);
+  if (c.out.empty()) c.out = fs::path("out") / spec.name;
+  std::error_code ec;
+  fs::create_directories(c.out, ec);
+  if (ec) throw InputError(fmt::format("{}: cannot create the study folder: {}", c.out.string(), ec.message()));
+
+  const std::vector<StudyRun> plan = plan_study(spec);
+  if (c.action == "list") {
+    const std::string exe = fs::read_symlink("/proc/self/exe", ec).string();
+    for (const StudyRun& r : plan)
+      fmt::print("{} study run {} --out {} --run {} --quiet\n", ec ? "rigidae" : exe, absolute_path(c.file),
+                 absolute_path(c.out), r.id(spec));
+    return 0;
+  }
+  if (c.action == "collect") return collect(spec, c);
+
+  std::vector<StudyRun> todo = plan;
+  if (!c.run_id.empty()) {
+    todo.clear();
+    for (const StudyRun& r : plan)
+      if (r.id(spec) == c.run_id) todo.push_back(r);
+    if (todo.empty())
+      throw InputError(fmt::format("--run '{}': no such run in {} (see 'rigidae study list {}')", c.run_id, c.file,
+                                   c.file));
+  } else if (c.action == "run") {
+    const std::optional<Shard> shard = c.shard ? c.shard : shard_from_slurm();
+    if (!shard)
+      throw InputError("rigidae study run needs --shard i/N, --run ID, or a Slurm array job (SLURM_ARRAY_TASK_ID)");
+    todo = select_shard(plan, *shard);
+  }
+  ProgressLine progress(c.quiet);
+  StudyRunOptions opt;
+  opt.out = c.out;
+  opt.progress = [&](const StudyProgress& p) { progress.update(p); };
+  if (!run_study(spec, todo, opt)) {
+    fmt::print(stderr, "\nrigidae: study interrupted; complete runs are kept, rerun the same command to resume\n");
+    return 1;
+  }
+  if (c.action == "all") return collect(spec, c);
+  return 0;
+}
+
+}  // namespace rigidae::cli
