@@ -118,7 +118,7 @@ json run_record(const StudySpec& spec, const StudyRun& run, const SolveOutcome& 
         {"nonlinear_conv_fails", c.nonlinear_conv_fails},
         {"restarts", c.restarts},
         {"projections", c.projections},
-        {"chart_switches", o.run.switches.size()}}},
+        {"chart_switches", o.run.switch_count}}},
       {"drift",
        {{"max_position", number(o.extremes.max_drift_position)},
         {"max_velocity", number(o.extremes.max_drift_velocity)},
