@@ -198,7 +198,8 @@ void check(int flag, const char* what) {
   if (flag < 0) throw std::runtime_error(std::string(what) + " failed: " + IDAGetReturnFlagName(flag));
 }
 
-Result solve(bool ggl, const std::string& jac, double rtol) {
+// Not inlined, so that callgrind can count it.
+__attribute__((noinline)) Result solve(bool ggl, const std::string& jac, double rtol) {
   Result r;
   const auto t0 = std::chrono::steady_clock::now();
   Problem p;

@@ -9,7 +9,8 @@
 # repeat) is counted twice:
 #   valgrind --tool=callgrind --toggle-collect='rigidae::integrate(*' \
 #       BUILD/bench/rigidae_bench sweep problems/heavy_top.toml --only C --rtols X --repeats 1 --mode unrecorded
-#   (the same with --toggle-collect='rigidae::DaeSystem::residual(*')
+#   (the same with --toggle-collect='rigidae::DaeSystem::residual(*', and
+#   with --mode recorded: integrate() then includes writing every step)
 # Collection is on only inside that function (callees included), so the
 # totals are its inclusive instruction counts (Ir). Per step: Ir(integrate) /
 # steps. Per residual: Ir(residual) / calls, calls = IDA's residual
@@ -54,9 +55,10 @@ for jac in "${kinds[@]}"; do
     args=(sweep problems/heavy_top.toml --only "$c" --rtols "$rtol" --repeats 1 --mode unrecorded --jacobian "$jac")
     row="$(count "$tmp/step.out" 'rigidae::integrate(*' "$build/bench/rigidae_bench" "${args[@]}" | tail -1)"
     count "$tmp/res.out" 'rigidae::DaeSystem::residual(*' "$build/bench/rigidae_bench" "${args[@]}" >/dev/null
-    /usr/bin/python3 - "$row" "$(total_ir "$tmp/step.out")" "$(total_ir "$tmp/res.out")" <<'EOF'
+    count "$tmp/rec.out" 'rigidae::integrate(*' "$build/bench/rigidae_bench" "${args[@]/unrecorded/recorded}" >/dev/null
+    /usr/bin/python3 - "$row" "$(total_ir "$tmp/step.out")" "$(total_ir "$tmp/res.out")" "$(total_ir "$tmp/rec.out")" <<'EOF'
 import json, sys
-r = json.loads(sys.argv[1]); ir_step, ir_res = int(sys.argv[2]), int(sys.argv[3])
+r = json.loads(sys.argv[1]); ir_step, ir_res, ir_rec = int(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4])
 calls = r["residual_evals"] + r["jacobian_residual_evals"] + 1
 print(json.dumps({"kind": "callgrind", "peer": "rigidae", "scene": r["scene"], "method": r["method"],
                   "jacobian": r["jacobian"], "setting": r["setting"], "setting_kind": "rtol",
@@ -64,7 +66,8 @@ print(json.dumps({"kind": "callgrind", "peer": "rigidae", "scene": r["scene"], "
                   "jacobian_evals": r["jacobian_evals"], "error_rad": r["error_rad"],
                   "ir_integrate": ir_step, "ir_residuals": ir_res,
                   "ir_per_step": ir_step / r["steps"], "ir_per_residual": ir_res / calls,
-                  "ir_residual_share": ir_res / ir_step}), flush=True)
+                  "ir_residual_share": ir_res / ir_step, "ir_integrate_recorded": ir_rec,
+                  "ir_per_step_recorded": ir_rec / r["steps"]}), flush=True)
 EOF
   done
   for scheme in index1 ggl; do
@@ -89,7 +92,7 @@ done
 
 # The explicit limit: odeint RKF78 at tolerance 1e-8 (its error is ~1e-6 rad there).
 if [ -x "$peers_build/odeint_heavy_top" ]; then
-  row="$(cd bench/peers && count "$tmp/ode.out" 'boost::numeric::odeint::integrate_adaptive*' \
+  row="$(cd bench/peers && count "$tmp/ode.out" '*integrate_adaptive*' \
            "$peers_build/odeint_heavy_top" --settings 1e-8 --repeats 1 | tail -1)"
   /usr/bin/python3 - "$row" "$(total_ir "$tmp/ode.out")" <<'EOF'
 import json, sys

@@ -294,13 +294,16 @@ def cost_table(rigidae, jac):
 
 
 def callgrind_table(rows):
-    out = ["| program | DAE / method | Jacobian | setting | steps | residual or rhs evals | instructions / step | "
-           "instructions / residual | residual share |\n", "|---|---|---|---|---|---|---|---|---|\n"]
+    out = ["| program | DAE / method | Jacobian | setting | steps | residual or rhs evals | error rad | "
+           "instructions / step | the same, recording every step | instructions / residual (rhs) | residual share |\n",
+           "|---|---|---|---|---|---|---|---|---|---|---|\n"]
     for r in rows:
         per_res = r.get("ir_per_residual", r.get("ir_per_rhs"))
         share = r.get("ir_residual_share")
+        rec = r.get("ir_per_step_recorded")
         out.append(f"| {r['peer']} | {r['method']} | {r.get('jacobian') or '–'} | {setting_text(r)} | {r['steps']} | "
-                   f"{r['rhs_evals']} | {r['ir_per_step']:,.0f} | {per_res:,.0f} | "
+                   f"{r['rhs_evals']} | {sci(r.get('error_rad'))} | {r['ir_per_step']:,.0f} | "
+                   f"{'–' if rec is None else f'{rec:,.0f}'} | {per_res:,.0f} | "
                    f"{'–' if share is None else f'{100 * share:.0f}%'} |\n")
     return "".join(out)
 

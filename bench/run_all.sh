@@ -19,8 +19,10 @@
 #   2. references: the free body's closed form -> bench/peers/free_body_reference.json;
 #      the heavy top's closed form checked against bench/peers/heavy_top_reference.json
 #   3. peers (bench/peers/run_peers.sh) on both scenes -> bench/peers/results.jsonl
-#   4. rigidae: every combination, rtol 1e-3..1e-13, both scenes, and the cost
-#      per step and per residual on the heavy top -> bench/results/rigidae.jsonl
+#   4. rigidae: every combination, rtol 1e-3..1e-13, both scenes (the first
+#      Jacobian kind; the others: heavy top at rtol 1e-6, 1e-8, 1e-10, 1e-12),
+#      and the cost per step and per residual on the heavy top
+#      -> bench/results/rigidae.jsonl
 #   5. the bare IDA loop (index1 and ggl), same rtols -> bench/results/bare.jsonl
 #   6. callgrind instruction counts -> bench/results/callgrind.jsonl
 #   7. peak memory at ~10^4 and ~10^6 steps -> bench/results/memory.jsonl
@@ -73,13 +75,22 @@ if ((peers)); then
 fi
 
 step "rigidae: sweeps and costs (${jacobians})"
+# Work-precision sweeps time the recorded runs (what `rigidae solve` does);
+# the combinations of the bare loop and the cost table are timed both ways.
+# Jacobian kinds after the first: heavy top only, four rtols.
 {
   for jac in "${kinds[@]}"; do
-    "$bench" sweep problems/heavy_top.toml --jacobian "$jac" --rtols "$rtols" --repeats "$repeats" \
-      --budget "$budget" --reference bench/peers/heavy_top_reference.json
-    "$bench" sweep problems/free_body.toml --jacobian "$jac" --rtols "$rtols" --repeats "$repeats" \
-      --budget "$budget" --reference bench/peers/free_body_reference.json
-    "$bench" cost problems/heavy_top.toml --jacobian "$jac" --repeats "$repeats" --budget "$budget"
+    if [ "$jac" = "${kinds[0]}" ]; then sweep_rtols="$rtols"; else sweep_rtols=1e-6,1e-8,1e-10,1e-12; fi
+    common=(--jacobian "$jac" --repeats "$repeats" --budget "$budget")
+    "$bench" sweep problems/heavy_top.toml "${common[@]}" --rtols "$sweep_rtols" --mode recorded \
+      --skip quaternion/euler/index1,quaternion/euler/ggl --reference bench/peers/heavy_top_reference.json
+    "$bench" sweep problems/heavy_top.toml "${common[@]}" --rtols "$rtols" --mode both \
+      --only quaternion/euler/index1,quaternion/euler/ggl --reference bench/peers/heavy_top_reference.json
+    if [ "$jac" = "${kinds[0]}" ]; then
+      "$bench" sweep problems/free_body.toml "${common[@]}" --rtols "$rtols" --mode recorded \
+        --reference bench/peers/free_body_reference.json
+    fi
+    "$bench" cost problems/heavy_top.toml "${common[@]}"
   done
 } >"$results/rigidae.jsonl"
 
