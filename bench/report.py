@@ -317,7 +317,7 @@ def memory_table(rows):
     return "".join(out)
 
 
-def verdicts(peers, rigidae, bare, mem, jacobians):
+def verdicts(peers, rigidae, bare, mem, jacobians, cg=()):
     """The targets of issue 6 on the heavy top, each with what was measured and met / missed."""
     jac = jacobians[0]
     hv = [r for r in rigidae if r.get("kind") == "sweep" and r.get("scene") == "heavy_top"]
@@ -372,6 +372,18 @@ def verdicts(peers, rigidae, bare, mem, jacobians):
                        f"{len(rs)} rtols: {med:.2f}x recorded (range {rs[0]:.2f}-{rs[-1]:.2f}), {medu:.2f}x unrecorded | "
                        f"{'met' if med <= 1.5 else 'missed'} |\n")
 
+    # The same comparison in instructions (callgrind), which machine load does not move.
+    for b in cg:
+        if b.get("peer") != "bare_ida" or b.get("jacobian") != jac:
+            continue
+        r = next((c for c in cg if c.get("peer") == "rigidae" and c["method"] == b["method"]
+                  and c.get("jacobian") == jac and c["setting"] == b["setting"]), None)
+        if r and r.get("ir_per_step_recorded"):
+            q = r["ir_integrate_recorded"] / b["ir_integrate"]
+            out.append(f"| the same in instructions ({b['method']}, rtol {b['setting']:.0e}) | recorded "
+                       f"{r['ir_integrate_recorded']:,} / bare {b['ir_integrate']:,} = {q:.2f}x; unrecorded "
+                       f"{r['ir_integrate'] / b['ir_integrate']:.2f}x | {'met' if q <= 1.5 else 'missed'} |\n")
+
     if "exact" in jacobians:
         for other in [j for j in jacobians if j != "exact"]:
             ex = {(r["method"], r["setting"]): r for r in hv if r.get("jacobian") == "exact"}
@@ -419,7 +431,7 @@ def main():
 
     md = [f"_Generated from the results files by `bench/report.py`; machine:_\n\n", machine_table(machine)]
     md.append(f"\n### Targets of issue 6 (heavy top, {jac} Jacobian)\n\n")
-    md.append(verdicts(peers_all, rig, bare, mem, jacobians))
+    md.append(verdicts(peers_all, rig, bare, mem, jacobians, cg))
     if refs:
         c = refs[0].get("check", {})
         md.append(f"\nHeavy-top reference check: rigidae's closed-form Lagrange-top solution is "
