@@ -12,7 +12,7 @@
 # --budget S    a setting is not repeated once its runs took S seconds (default 1.5)
 # --no-peers    keep bench/peers/results.jsonl from an earlier run
 #
-# Steps (as root on Debian 12; ~12-15 min on 2 cores):
+# Steps (as root on Debian 12; 22 min on 2 shared cores at load ~7):
 #   1. installs what is missing (valgrind, time, the peers' packages), builds
 #      rigidae, rigidae_bench and bare_ida_heavy_top (Release) in
 #      $RIGIDAE_BUILD_DIR (default ./build) and the peers in $PEERS_BUILD_DIR
