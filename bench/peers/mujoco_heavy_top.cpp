@@ -26,7 +26,7 @@ namespace {
 
 std::string mjcf(const char* integrator, double dt) {
   char buf[2048];
-  std::snprintf(buf, sizeof buf, R"(<mujoco model="heavy_top">
+  std::snprintf(buf, sizeof buf, R"(<mujoco model="%s">
   <compiler angle="radian"/>
   <option timestep="%.17g" integrator="%s" gravity="%.17g %.17g %.17g">
     <flag contact="disable"/>
@@ -39,8 +39,8 @@ std::string mjcf(const char* integrator, double dt) {
   </worldbody>
 </mujoco>
 )",
-                dt, integrator, peers::gravity[0], peers::gravity[1], peers::gravity[2], peers::com[0],
-                peers::com[1], peers::com[2], peers::mass, peers::Icom[0], peers::Icom[1], peers::Icom[2]);
+                peers::scene.name.c_str(), dt, integrator, peers::scene.gravity[0], peers::scene.gravity[1], peers::scene.gravity[2], peers::scene.com[0],
+                peers::scene.com[1], peers::scene.com[2], peers::scene.mass, peers::scene.Icom[0], peers::scene.Icom[1], peers::scene.Icom[2]);
   return buf;
 }
 
@@ -66,7 +66,7 @@ void set_initial(const mjModel* m, mjData* d) {
   mj_resetData(m, d);
   d->qpos[0] = 1.0;
   d->qpos[1] = d->qpos[2] = d->qpos[3] = 0.0;
-  for (int k = 0; k < 3; ++k) d->qvel[k] = peers::w0[k];
+  for (int k = 0; k < 3; ++k) d->qvel[k] = peers::scene.w0[k];
 }
 
 // Kinetic 1/2 v^T M v from MuJoCo's mass matrix plus potential -m g . x_com
@@ -86,10 +86,16 @@ double total_energy(const mjModel* m, mjData* d) {
 
 int main(int argc, char** argv) try {
   const char* usage =
-      "mujoco_heavy_top [--repeats N] [--budget S] [--settings dt,dt,...] [--methods RK4,Euler,implicit]\n"
-      "  [--reference FILE]  (default dt 1e-3, 5e-4, 2e-4, 1e-4, ..., 3e-6, 2e-6, 1e-6)";
+      "mujoco_heavy_top [--scene heavy_top|free_body] [--repeats N] [--budget S] [--settings dt,dt,...] [--methods RK4,Euler,implicit]\n"
+      "  [--reference FILE]  (default dt 1e-3, 5e-4, 2e-4, 1e-4, ..., 3e-6, 2e-6, 1e-6;\n"
+      "  free_body: 1e-2 ... 5e-5)";
   auto opt = peers::parse_options(argc, argv, usage);
-  if (opt.settings.empty()) opt.settings = {1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5, 5e-6, 3e-6, 2e-6, 1e-6};
+  if (opt.settings.empty()) {
+    if (peers::scene.name == "free_body")  // 20 s: at most 400,000 steps
+      opt.settings = {1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4, 5e-5};
+    else
+      opt.settings = {1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5, 5e-6, 3e-6, 2e-6, 1e-6};
+  }
   const auto q_ref = peers::load_reference(opt.reference);
   mju_user_warning = warn_to_stderr;
   std::fprintf(stderr, "mujoco_heavy_top: MuJoCo %s\n", mj_versionString());
@@ -98,8 +104,8 @@ int main(int argc, char** argv) try {
   for (const auto& [name, evals_per_step] : methods) {
     if (!peers::wanted(opt, name)) continue;
     for (double dt : opt.settings) {
-      const long long steps = std::llround(peers::t_end / dt);
-      const double dt_used = peers::t_end / static_cast<double>(steps);
+      const long long steps = std::llround(peers::scene.t_end / dt);
+      const double dt_used = peers::scene.t_end / static_cast<double>(steps);
       mjModel* m = compile(mjcf(name, dt_used));
       mjData* d = mj_makeData(m);
       // Verify the model against the scene before timing anything.
@@ -110,7 +116,7 @@ int main(int argc, char** argv) try {
         throw std::runtime_error("model mismatch: nq " + std::to_string(m->nq) + ", E0 " +
                                  peers::num(E0) + " vs " + peers::num(E0_analytic));
       for (int k = 0; k < 3; ++k)  // mass matrix = inertia about the pivot
-        if (std::fabs(d->qM[m->dof_Madr[k]] - peers::Jpivot[k]) > 1e-12)
+        if (std::fabs(d->qM[m->dof_Madr[k]] - peers::scene.Jpivot[k]) > 1e-12)
           throw std::runtime_error("mass matrix diagonal differs from J about the pivot");
 
       auto run = [&] {
@@ -120,7 +126,7 @@ int main(int argc, char** argv) try {
       const auto [wall, n] = peers::median_wall(run, opt.repeats, opt.budget_s);
       // On a bad acceleration (NaN/Inf) mj_step warns and resets the data to
       // the model's defaults, so a diverged run ends with d->time short of 2.
-      const bool diverged = std::fabs(d->time - peers::t_end) > 0.5 * dt_used;
+      const bool diverged = std::fabs(d->time - peers::scene.t_end) > 0.5 * dt_used;
       const double E = total_energy(m, d);
 
       peers::Row row;

@@ -1,5 +1,5 @@
 // Peer: Boost.Odeint, controlled Runge-Kutta-Fehlberg 7(8) on the 7-state
-// quaternion ODE of the heavy top (body form):
+// quaternion ODE of the heavy top or the free body (--scene; body form):
 //   q' = 1/2 q (x) (0, w),   J w' = -w x (J w) + c x (m R^T g),
 // J the inertia about the pivot, c the COM in body axes, g in space axes.
 // One JSON line per tolerance (abs = rel); wall time covers one whole
@@ -25,12 +25,12 @@ struct HeavyTop {
     // Gravity in body axes: R^T g, R the rotation of q / |q|. Space gravity is
     // (0, 0, gz), so R^T g = gz * (third row of R).
     const double n2 = qw * qw + qx * qx + qy * qy + qz * qz;
-    const double gz = peers::gravity[2];
+    const double gz = peers::scene.gravity[2];
     const double gb[3] = {gz * 2.0 * (qx * qz - qw * qy) / n2, gz * 2.0 * (qy * qz + qw * qx) / n2,
                           gz * (qw * qw - qx * qx - qy * qy + qz * qz) / n2};
-    const double F[3] = {peers::mass * gb[0], peers::mass * gb[1], peers::mass * gb[2]};
-    const double* c = peers::com;
-    const double* J = peers::Jpivot;
+    const double F[3] = {peers::scene.mass * gb[0], peers::scene.mass * gb[1], peers::scene.mass * gb[2]};
+    const double* c = peers::scene.com;
+    const double* J = peers::scene.Jpivot;
     const double L[3] = {J[0] * wx, J[1] * wy, J[2] * wz};
     const double tau[3] = {c[1] * F[2] - c[2] * F[1], c[2] * F[0] - c[0] * F[2], c[0] * F[1] - c[1] * F[0]};
     ds[4] = (-(wy * L[2] - wz * L[1]) + tau[0]) / J[0];
@@ -41,7 +41,7 @@ struct HeavyTop {
 
 int main(int argc, char** argv) try {
   const char* usage =
-      "odeint_heavy_top [--repeats N] [--budget S] [--settings tol,tol,...] [--reference FILE]\n"
+      "odeint_heavy_top [--scene heavy_top|free_body] [--repeats N] [--budget S] [--settings tol,tol,...] [--reference FILE]\n"
       "  Boost.Odeint controlled runge_kutta_fehlberg78, abs = rel = tol (default 1e-3..1e-13)";
   auto opt = peers::parse_options(argc, argv, usage);
   if (opt.settings.empty())
@@ -53,10 +53,10 @@ int main(int argc, char** argv) try {
     long long evals = 0;
     std::size_t steps = 0;
     auto run = [&] {
-      x = {1.0, 0.0, 0.0, 0.0, peers::w0[0], peers::w0[1], peers::w0[2]};
+      x = {1.0, 0.0, 0.0, 0.0, peers::scene.w0[0], peers::scene.w0[1], peers::scene.w0[2]};
       evals = 0;
       auto stepper = odeint::make_controlled(tol, tol, odeint::runge_kutta_fehlberg78<State>());
-      steps = odeint::integrate_adaptive(stepper, HeavyTop{&evals}, x, 0.0, peers::t_end, 1e-4);
+      steps = odeint::integrate_adaptive(stepper, HeavyTop{&evals}, x, 0.0, peers::scene.t_end, 1e-4);
     };
     const auto [wall, n] = peers::median_wall(run, opt.repeats, opt.budget_s);
     peers::Row row;

@@ -1,4 +1,4 @@
-// Shared helpers of the C++ peer programs: the heavy-top scene constants,
+// Shared helpers of the C++ peer programs: the scenes (heavy top, free body),
 // the reference quaternion, the orientation error, timing and JSON output.
 #pragma once
 
@@ -17,20 +17,49 @@
 
 namespace peers {
 
-// ---- the scene (SI units) -------------------------------------------------
-inline constexpr double mass = 15.0;
-inline constexpr double Icom[3] = {0.234375, 0.46875, 0.234375};  // about the COM, body axes
-inline constexpr double com[3] = {0.0, 1.0, 0.0};                 // body frame, from the pivot
-inline constexpr double gravity[3] = {0.0, 0.0, -9.81};           // space frame
-inline constexpr double w0[3] = {0.0, 150.0, -4.61538};           // body components
-inline constexpr double t_end = 2.0;
-// Inertia about the pivot (parallel axis theorem, COM on the body y axis).
-inline constexpr double Jpivot[3] = {Icom[0] + mass * 1.0, Icom[1], Icom[2] + mass * 1.0};
+// ---- the scenes (SI units) ------------------------------------------------
+// heavy_top: problems/heavy_top.toml. free_body: problems/free_body.toml, a
+// torque-free asymmetric body; here a body turning about a ball joint at its
+// centre of mass with gravity off, which has the same rotation (rigidae
+// integrates only the rotation of a free body, about its centre of mass).
+struct Scene {
+  std::string name;
+  double mass;
+  double Icom[3];     // principal moments about the COM, body axes
+  double com[3];      // body frame, from the pivot; on a body axis (or zero)
+  double gravity[3];  // space frame
+  double w0[3];       // body components; the initial orientation is the identity
+  double t_end;
+  double Jpivot[3];   // inertia about the pivot (parallel axis theorem)
+};
+
+inline Scene make_scene(const std::string& name) {
+  Scene s;
+  if (name == "heavy_top")
+    s = {name, 15.0, {0.234375, 0.46875, 0.234375}, {0.0, 1.0, 0.0}, {0.0, 0.0, -9.81}, {0.0, 150.0, -4.61538}, 2.0, {}};
+  else if (name == "free_body")
+    s = {name, 1.0, {2.0, 3.0, 4.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.1, 2.0, 0.1}, 20.0, {}};
+  else
+    throw std::runtime_error("unknown scene '" + name + "' (heavy_top, free_body)");
+  const double c2 = s.com[0] * s.com[0] + s.com[1] * s.com[1] + s.com[2] * s.com[2];
+  int off_axis = 0;
+  for (int k = 0; k < 3; ++k) {
+    s.Jpivot[k] = s.Icom[k] + s.mass * (c2 - s.com[k] * s.com[k]);
+    off_axis += s.com[k] != 0.0;
+  }
+  if (off_axis > 1) throw std::runtime_error("the COM must lie on a body axis (diagonal J about the pivot)");
+  return s;
+}
+
+// The scene being run (set by parse_options from --scene; default heavy_top).
+inline Scene scene = make_scene("heavy_top");
 
 // Total energy of the initial state (kinetic about the pivot; the potential
-// m*9.81*z_com is 0 because the COM starts at height 0).
+// -m g . x_com is 0 because the COM starts level with the pivot).
 inline double initial_energy() {
-  return 0.5 * (Jpivot[0] * w0[0] * w0[0] + Jpivot[1] * w0[1] * w0[1] + Jpivot[2] * w0[2] * w0[2]);
+  const double* J = scene.Jpivot;
+  const double* w = scene.w0;
+  return 0.5 * (J[0] * w[0] * w[0] + J[1] * w[1] * w[1] + J[2] * w[2] * w[2]);
 }
 
 using Quat = std::array<double, 4>;  // (w, x, y, z)
@@ -77,7 +106,7 @@ inline std::optional<Quat> load_reference(const std::string& path) {
 struct Options {
   int repeats = 5;           // N: wall time is the median of N runs
   double budget_s = 5.0;     // stop repeating a setting once its runs took this long
-  std::string reference = "heavy_top_reference.json";
+  std::string reference;  // default: SCENE_reference.json in the current directory
   std::vector<double> settings;  // tolerances or steps; empty: the program's default sweep
   std::vector<std::string> methods;  // empty: all
 };
@@ -101,11 +130,13 @@ inline Options parse_options(int argc, char** argv, const char* usage) {
     if (a == "--repeats") o.repeats = std::max(1, std::stoi(next()));
     else if (a == "--budget") o.budget_s = std::stod(next());
     else if (a == "--reference") o.reference = next();
+    else if (a == "--scene") scene = make_scene(next());
     else if (a == "--settings") for (auto& s : split(next())) o.settings.push_back(std::stod(s));
     else if (a == "--methods") o.methods = split(next());
     else if (a == "-h" || a == "--help") { std::printf("%s\n", usage); std::exit(0); }
     else throw std::runtime_error("unknown option " + a + "\n" + usage);
   }
+  if (o.reference.empty()) o.reference = scene.name + "_reference.json";
   return o;
 }
 
@@ -156,7 +187,7 @@ struct Row {
 };
 
 inline void print_row(const Row& r) {
-  std::string s = "{\"peer\": \"" + r.peer + "\", \"method\": \"" + r.method + "\", \"setting\": " +
+  std::string s = "{\"peer\": \"" + r.peer + "\", \"scene\": \"" + scene.name + "\", \"method\": \"" + r.method + "\", \"setting\": " +
                   num(r.setting) + ", \"setting_kind\": \"" + r.setting_kind + "\", \"wall_s\": " +
                   num(r.wall_s) + ", \"repeats\": " + std::to_string(r.repeats) +
                   ", \"steps\": " + std::to_string(r.steps) + ", \"rhs_evals\": " +

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Peer: SciPy solve_ivp on the heavy top (quaternion + Euler equations).
+"""Peer: SciPy solve_ivp on the heavy top or the free body (quaternion + Euler equations).
 
 Written as a Python user would: a vectorised numpy right-hand side, no
 numba, default solver options apart from rtol = atol = tol. One JSON line per
@@ -28,6 +28,23 @@ W0 = np.array([0.0, 150.0, -4.61538])            # body components
 T_END = 2.0
 # Inertia about the pivot (parallel axis theorem; the COM is on the body y axis).
 J = I_COM + MASS * (COM @ COM - COM**2)
+SCENE = "heavy_top"
+
+
+def set_scene(name):
+    """Selects the scene: heavy_top, or free_body (problems/free_body.toml: a
+    torque-free body, here turning about its centre of mass with gravity off)."""
+    global MASS, I_COM, COM, GRAVITY, W0, T_END, J, SCENE
+    if name == "heavy_top":
+        MASS, I_COM, COM = 15.0, np.array([0.234375, 0.46875, 0.234375]), np.array([0.0, 1.0, 0.0])
+        GRAVITY, W0, T_END = np.array([0.0, 0.0, -9.81]), np.array([0.0, 150.0, -4.61538]), 2.0
+    elif name == "free_body":
+        MASS, I_COM, COM = 1.0, np.array([2.0, 3.0, 4.0]), np.zeros(3)
+        GRAVITY, W0, T_END = np.zeros(3), np.array([0.1, 2.0, 0.1]), 20.0
+    else:
+        raise SystemExit(f"unknown scene {name!r} (heavy_top, free_body)")
+    J = I_COM + MASS * (COM @ COM - COM**2)
+    SCENE = name
 
 
 def quat_mul(a, b):
@@ -88,8 +105,12 @@ def main():
                     help="comma-separated tolerances (default 1e-3..1e-12)")
     ap.add_argument("--max-tol-radau", type=float, default=1e-12,
                     help="skip Radau below this tolerance (it is slow in Python)")
-    ap.add_argument("--reference", default=os.path.join(here, "heavy_top_reference.json"))
+    ap.add_argument("--scene", default="heavy_top", help="heavy_top or free_body")
+    ap.add_argument("--reference", default=None, help="default: SCENE_reference.json beside this script")
     args = ap.parse_args()
+    set_scene(args.scene)
+    if args.reference is None:
+        args.reference = os.path.join(here, f"{args.scene}_reference.json")
 
     tols = ([float(s) for s in args.settings.split(",")] if args.settings
             else [10.0**-e for e in range(3, 13)])
@@ -112,7 +133,7 @@ def main():
             q = sol.y[:4, -1]
             q = q / np.linalg.norm(q)
             row = {
-                "peer": "scipy", "method": method, "setting": tol, "setting_kind": "tol",
+                "peer": "scipy", "scene": SCENE, "method": method, "setting": tol, "setting_kind": "tol",
                 "wall_s": statistics.median(times), "repeats": len(times),
                 "steps": len(sol.t) - 1, "rhs_evals": int(sol.nfev),
                 "error_rad": None if q_ref is None else float(angle_between(q_ref, q)),

@@ -31,15 +31,15 @@ struct Model {
   State initial;
 
   Model() {
-    Force::Gravity(forces, matter, Vec3(peers::gravity[0], peers::gravity[1], peers::gravity[2]));
-    const Vec3 c(peers::com[0], peers::com[1], peers::com[2]);
-    const Inertia I_pivot(peers::Jpivot[0], peers::Jpivot[1], peers::Jpivot[2]);
-    Body::Rigid body(MassProperties(peers::mass, c, I_pivot));
+    Force::Gravity(forces, matter, Vec3(peers::scene.gravity[0], peers::scene.gravity[1], peers::scene.gravity[2]));
+    const Vec3 c(peers::scene.com[0], peers::scene.com[1], peers::scene.com[2]);
+    const Inertia I_pivot(peers::scene.Jpivot[0], peers::scene.Jpivot[1], peers::scene.Jpivot[2]);
+    Body::Rigid body(MassProperties(peers::scene.mass, c, I_pivot));
     top = MobilizedBody::Ball(matter.Ground(), Transform(), body, Transform());
     system.realizeTopology();
     initial = system.getDefaultState();
     top.setQ(initial, Vec4(1, 0, 0, 0));
-    top.setU(initial, Vec3(peers::w0[0], peers::w0[1], peers::w0[2]));
+    top.setU(initial, Vec3(peers::scene.w0[0], peers::scene.w0[1], peers::scene.w0[2]));
     system.realize(initial, Stage::Velocity);
   }
 };
@@ -50,7 +50,8 @@ using Factory = std::function<std::unique_ptr<Integrator>(const System&)>;
 
 int main(int argc, char** argv) try {
   const char* usage =
-      "simbody_heavy_top [--repeats N] [--budget S] [--settings acc,acc,...] [--methods m,m]\n"
+      "simbody_heavy_top [--scene heavy_top|free_body] [--repeats N] [--budget S] [--settings acc,acc,...]\n"
+      "  [--methods m,m]"
       "  [--reference FILE]  methods: RungeKuttaMerson, CPodesBDF, RungeKuttaFeldberg,\n"
       "  RungeKutta3, SemiExplicitEuler2 (default: all; accuracy 1e-3..1e-10)";
   auto opt = peers::parse_options(argc, argv, usage);
@@ -67,8 +68,9 @@ int main(int argc, char** argv) try {
     std::fprintf(stderr, "simbody_heavy_top: initial energy %.12g, expected %.12g\n", E0, E0_analytic);
     return 1;
   }
-  const Vec3 com_G = model.top.findStationLocationInGround(model.initial, Vec3(0, 1, 0));
-  if ((com_G - Vec3(0, 1, 0)).norm() > 1e-15) throw std::runtime_error("COM not at (0,1,0)");
+  const Vec3 c(peers::scene.com[0], peers::scene.com[1], peers::scene.com[2]);
+  const Vec3 com_G = model.top.findStationLocationInGround(model.initial, c);
+  if ((com_G - c).norm() > 1e-15) throw std::runtime_error("COM not where the scene puts it");
 
   const std::vector<std::pair<std::string, Factory>> methods = {
       {"RungeKuttaMerson", [](const System& s) { return std::make_unique<RungeKuttaMersonIntegrator>(s); }},
@@ -86,13 +88,13 @@ int main(int argc, char** argv) try {
       auto run = [&] {
         auto integ = make(model.system);
         integ->setAccuracy(acc);
-        integ->setFinalTime(peers::t_end);  // land on t = 2 exactly, no interpolated output
+        integ->setFinalTime(peers::scene.t_end);  // land on t = 2 exactly, no interpolated output
         // No internal step limit to speak of: CPodes' default (mxstep 500 per
         // call) only makes stepTo() return early with a message on stderr.
         integ->setInternalStepLimit(100000000);
         integ->initialize(model.initial);
-        while (integ->getTime() < peers::t_end) {
-          integ->stepTo(peers::t_end);
+        while (integ->getTime() < peers::scene.t_end) {
+          integ->stepTo(peers::scene.t_end);
           if (integ->isSimulationOver()) break;
         }
         steps = integ->getNumStepsTaken();
@@ -102,7 +104,7 @@ int main(int argc, char** argv) try {
         final_state = integ->getState();
       };
       const auto [wall, n] = peers::median_wall(run, opt.repeats, opt.budget_s);
-      if (std::fabs(final_state.getTime() - peers::t_end) > 1e-12)
+      if (std::fabs(final_state.getTime() - peers::scene.t_end) > 1e-12)
         std::fprintf(stderr, "simbody_heavy_top: %s acc %g stopped at t = %.17g\n", name.c_str(), acc,
                      final_state.getTime());
       model.system.realize(final_state, Stage::Velocity);

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Prints results.jsonl as one Markdown table per peer and method."""
+"""Prints results.jsonl as one Markdown table per scene, peer and method."""
 import json
 import sys
 from collections import defaultdict
@@ -16,10 +16,10 @@ def main():
         for line in f:
             if line.strip():
                 r = json.loads(line)
-                groups[(r["peer"], r["method"])].append(r)
-    for (peer, method), rows in groups.items():
+                groups[(r.get("scene", "heavy_top"), r["peer"], r["method"])].append(r)
+    for (scene, peer, method), rows in groups.items():
         kind = rows[0]["setting_kind"]
-        print(f"\n{peer} {method}\n")
+        print(f"\n{scene}: {peer} {method}\n")
         print(f"| {kind} | steps | rhs evals | wall s | runs | error rad |")
         print("|---|---|---|---|---|---|")
         for r in sorted(rows, key=lambda r: -r["setting"]):
