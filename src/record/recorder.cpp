@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
+
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
@@ -62,14 +64,35 @@ RunRecorder::RunRecorder(const DaeSystem& dae, const Scene& scene, const std::fi
   extremes_.multiplier_max = Eigen::VectorXd::Constant(nm, -std::numeric_limits<double>::infinity());
 }
 
+namespace {
+
+// Shortest text that reads back to the same double (std::to_chars, Ryu in
+// libstdc++): exact, and ~3x fewer instructions than fmt with a precision,
+// which made formatting half the cost of a recorded step.
+void put(fmt::memory_buffer& b, double x, char before = ',') {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, x).ptr;
+  if (before) b.push_back(before);
+  b.append(text, end);
+}
+
+}  // namespace
+
 void RunRecorder::write_observation(std::FILE* f, const Observation& o, fmt::memory_buffer& b) {
-  fmt::format_to(std::back_inserter(b), "{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.6e},{:.6e}",
-                 o.q_WB(0), o.q_WB(1), o.q_WB(2), o.q_WB(3), o.omega_B(0), o.omega_B(1), o.omega_B(2),
-                 o.drift.position, o.drift.velocity);
-  for (int i = 0; i < o.multipliers.size(); ++i) fmt::format_to(std::back_inserter(b), ",{:.10e}", o.multipliers(i));
-  fmt::format_to(std::back_inserter(b), ",{:.17g},{:.6e},{:.17g},{:.6e}", o.energy, o.energy_error,
-                 o.vertical_momentum, o.vertical_momentum_error);
-  if (with_chart_) fmt::format_to(std::back_inserter(b), ",{}", dae_.representation().chart_name());
+  for (int i = 0; i < 4; ++i) put(b, o.q_WB(i));
+  for (int i = 0; i < 3; ++i) put(b, o.omega_B(i));
+  put(b, o.drift.position);
+  put(b, o.drift.velocity);
+  for (int i = 0; i < o.multipliers.size(); ++i) put(b, o.multipliers(i));
+  put(b, o.energy);
+  put(b, o.energy_error);
+  put(b, o.vertical_momentum);
+  put(b, o.vertical_momentum_error);
+  if (with_chart_) {
+    b.push_back(',');
+    const std::string chart = dae_.representation().chart_name();
+    b.append(chart.data(), chart.data() + chart.size());
+  }
   b.push_back('\n');
   std::fwrite(b.data(), 1, b.size(), f);
 }
@@ -77,7 +100,9 @@ void RunRecorder::write_observation(std::FILE* f, const Observation& o, fmt::mem
 void RunRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& y) {
   const Observation o = step_observer_.observe(t, y);
   fmt::memory_buffer b;  // on the stack: recording a step allocates nothing
-  fmt::format_to(std::back_inserter(b), "{:.17g},{:.6e},{},", t, h, order);
+  put(b, t, 0);
+  put(b, h);
+  fmt::format_to(fmt::appender(b), ",{}", order);
   write_observation(steps_.file(), o, b);
   RunExtremes& e = extremes_;
   ++e.steps_recorded;
@@ -93,17 +118,17 @@ void RunRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& 
 void RunRecorder::on_output(double t, const Eigen::VectorXd& y) {
   const Observation o = grid_observer_.observe(t, y);
   fmt::memory_buffer b;
-  fmt::format_to(std::back_inserter(b), "{:.17g},", t);
+  put(b, t, 0);
   write_observation(trajectory_.file(), o, b);
   if (extremes_.steps_recorded == 0) extremes_.last = o;
 }
 
 void RunRecorder::on_chart_switch(const ChartSwitch& s) {
-  fmt::print(events_.file(), "{:.17g},chart_switch,{},{},{:.6e},,\n", s.t, s.from, s.to, s.margin);
+  fmt::print(events_.file(), "{},chart_switch,{},{},{},,\n", s.t, s.from, s.to, s.margin);
 }
 
 void RunRecorder::on_projection(double t, const ConstraintDrift& before) {
-  fmt::print(events_.file(), "{:.17g},projection,,,,{:.6e},{:.6e}\n", t, before.position, before.velocity);
+  fmt::print(events_.file(), "{},projection,,,,{},{}\n", t, before.position, before.velocity);
 }
 
 void RunRecorder::flush() {
