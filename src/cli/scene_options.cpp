@@ -48,9 +48,8 @@ const char* kSceneOptionsHelp = R"(  --rtol X                relative tolerance,
   --max-order N           BDF order limit, 1..5
   --initial-step X        first step in s (default: estimated from y'')
   --jacobian exact|central|ida_dq
-                          iteration matrix: exact derivatives, rigidae's
-                          central differences (default; accurate enough for
-                          index-2 forms at tight tolerances) or IDA's forward
+                          iteration matrix: exact derivatives (default),
+                          rigidae's central differences or IDA's forward
                           difference quotients
   --linear-solver dense|klu
                           Newton's linear solver: dense LU (default) or KLU

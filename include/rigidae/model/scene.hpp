@@ -64,8 +64,9 @@ struct SolverSettings {
   double initial_step = 0.0;     // 0: estimated from the start's second derivative
   // Iteration matrix: "exact" (derived by hand per representation and
   // scheme), "central" (rigidae's differences, accurate to ~1e-11) or
-  // "ida_dq" (IDA's own forward difference quotients).
-  std::string jacobian = "central";
+  // "ida_dq" (IDA's own forward difference quotients). Same steps, far fewer
+  // residual evaluations with "exact" (docs/ida_settings.md).
+  std::string jacobian = "exact";
   // Linear solver for Newton's systems: "dense" (SUNDIALS' dense LU, best for
   // the <= 30 unknowns here) or "klu" (sparse LU on the iteration
   // matrix's structural pattern; not with "ida_dq").
