@@ -53,7 +53,7 @@ nlohmann::json configuration_json(const Scene& s) {
         {"max_steps", s.solver.max_steps},
         {"max_order", s.solver.max_order},
         {"initial_step", s.solver.initial_step},
-        {"linear_solver", "dense"},
+        {"linear_solver", s.solver.linear_solver},
         {"jacobian", s.solver.jacobian}}},
   };
 }

@@ -16,10 +16,10 @@ namespace rigidae::cli {
 
 namespace {
 
-constexpr std::array<std::string_view, 16> kValued{
+constexpr std::array<std::string_view, 17> kValued{
     "--coordinates",  "--equations",        "--scheme",      "--rtol",      "--atol",        "--t-end",
     "--euler-sequence", "--switch-threshold", "--max-steps", "--jacobian",  "--baumgarte-a", "--baumgarte-b",
-    "--projection-threshold", "--max-order", "--initial-step", "--output-step"};
+    "--projection-threshold", "--max-order", "--initial-step", "--output-step", "--linear-solver"};
 constexpr std::array<std::string_view, 2> kFlags{"--no-chart-switching", "--project-every-step"};
 
 template <typename T>
@@ -47,10 +47,13 @@ const char* kSceneOptionsHelp = R"(  --rtol X                relative tolerance,
   --max-steps N           limit on internal IDA steps
   --max-order N           BDF order limit, 1..5
   --initial-step X        first step in s (default: estimated from y'')
-  --jacobian central|ida_dq
-                          iteration matrix: rigidae's central differences
-                          (default; accurate enough for index-2 forms at tight
-                          tolerances) or IDA's forward difference quotients
+  --jacobian exact|central|ida_dq
+                          iteration matrix: exact derivatives (default),
+                          rigidae's central differences or IDA's forward
+                          difference quotients
+  --linear-solver dense|klu
+                          Newton's linear solver: dense LU (default) or KLU
+                          sparse LU (not with --jacobian ida_dq)
   --euler-sequence SEQ    initial Euler-angle chart: 'auto' or three letters (e.g. zxz)
   --no-chart-switching    stop at the Euler-angle chart's singularity margin
                           instead of switching charts
@@ -156,7 +159,10 @@ void apply_scene_option(Scene& scene, const std::string& opt, const std::string&
       }
     }
   } else if (opt == "--jacobian")
-    scene.solver.jacobian = parse_choice<std::string>(opt, text, {{"central", "central"}, {"ida_dq", "ida_dq"}});
+    scene.solver.jacobian =
+        parse_choice<std::string>(opt, text, {{"exact", "exact"}, {"central", "central"}, {"ida_dq", "ida_dq"}});
+  else if (opt == "--linear-solver")
+    scene.solver.linear_solver = parse_choice<std::string>(opt, text, {{"dense", "dense"}, {"klu", "klu"}});
   else if (opt == "--no-chart-switching")
     form.euler.switching = false;
   else

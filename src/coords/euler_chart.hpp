@@ -2,6 +2,8 @@
 // The current Euler-angle chart (sequence) of an Euler-angle representation,
 // the move to the most regular chart at a given orientation, and what the
 // two Euler-angle representations share.
+#include <array>
+
 #include "rigidae/coords/representation.hpp"
 #include "rigidae/model/scene.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
@@ -35,6 +37,22 @@ class EulerChart {
   so3::EulerSequence seq_;
 };
 
+// dB/d(angle m), m = 0, 1, 2, from the columns (col0, col1, e_k) of B (see
+// so3::euler_rate_matrix): B does not depend on the first angle;
+// d col0/db = col0 x col1 (from d Rj^T/db = -hat(e_j) Rj^T); and
+// d col0/dc = col0 x e_k, d col1/dc = col1 x e_k (from d Rk^T/dc = -hat(e_k) Rk^T).
+inline std::array<Mat3, 3> rate_matrix_partials(const Mat3& B) {
+  const Vec3 col0 = B.col(0), col1 = B.col(1), ek = B.col(2);
+  std::array<Mat3, 3> dB;
+  dB[0].setZero();
+  dB[1].setZero();
+  dB[1].col(0) = col0.cross(col1);
+  dB[2].setZero();
+  dB[2].col(0) = col0.cross(ek);
+  dB[2].col(1) = col1.cross(ek);
+  return dB;
+}
+
 // Three angles, no constraints, charts: the parts both equation forms share.
 class EulerAnglesRepresentation : public Representation {
  public:
@@ -60,6 +78,10 @@ class EulerAnglesRepresentation : public Representation {
     out.phi_q.resize(0, 3);
     out.G.resize(0, 3);
     out.gamma.resize(0);
+  }
+  static void no_constraint_derivatives(TermDerivatives& out) {
+    out.gamma_q.resize(0, 3);
+    out.gamma_v.resize(0, 3);
   }
 
   RigidBodyModel body_;

@@ -7,6 +7,7 @@
 // rows instead. Unknowns: r (9), omega_B (3).
 #include "coordinate_maps.hpp"
 #include "factories.hpp"
+#include "rigid_body_derivatives.hpp"
 
 namespace rigidae::coords {
 
@@ -30,6 +31,33 @@ class LinearEuler final : public Representation {
     out.M = body_.J_B;
     out.f = body_.gravity_torque_B(R) - w.cross(body_.J_B * w);
     orthonormality_constraints(R, out.phi, out.phi_q);
+  }
+
+  // Row i of R' = R hat(w) is r_i^T hat(w), i.e. -hat(w) r_i = hat(r_i) w as a column.
+  // tau = c x (m R^T g) with R^T g = sum_i g_i r_i: d tau/dr_i = m g_i hat(c).
+  void differentiate(double /*t*/, const VecQ& q, const VecV& v, const VecV& /*a*/,
+                     TermDerivatives& out) const override {
+    const Vec3 w = v.head<3>();
+    const Mat3 hat_w = so3::hat(w);
+    const Mat3 hat_c = so3::hat(body_.c_B);
+    out.qdot_q.setZero(9, 9);
+    out.N.resize(9, 3);
+    out.f_q.resize(3, 9);
+    for (int i = 0; i < 3; ++i) {
+      out.qdot_q.block<3, 3>(3 * i, 3 * i) = -hat_w;
+      out.N.block<3, 3>(3 * i, 0) = so3::hat(q.segment<3>(3 * i));
+      out.f_q.block<3, 3>(0, 3 * i) = (body_.mass * body_.gravity_W(i)) * hat_c;
+    }
+    out.Ma_q.setZero(3, 9);  // M = J
+    out.f_v = gyroscopic_derivative(body_, w);
+    out.gamma_q.resize(0, 9);
+    out.gamma_v.resize(0, 3);
+  }
+  void constraint_hessian_weighted(const VecQ& /*q*/, const VecC& m, MatQQ& out) const override {
+    orthonormality_hessian_weighted(m, out);
+  }
+  void constraint_hessian_applied(const VecQ& /*q*/, const VecQ& w, MatCQ& out) const override {
+    orthonormality_hessian_applied(w, out);
   }
 
   void from_physical(const Mat3& R_WB, const Vec3& omega_B, VecQ& q, VecV& v) const override {

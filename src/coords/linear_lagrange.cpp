@@ -40,6 +40,27 @@ class LinearLagrange final : public Representation {
     orthonormality_gamma(rows_to_matrix(v), out.gamma);
   }
 
+  // Constant M and f; only gamma = -2 (V^T V)_jk depends on the state:
+  // it is -2 times the constraints' quadratic form at V, so gamma_v = -2 Phi_q(V).
+  void differentiate(double /*t*/, const VecQ& /*q*/, const VecV& v, const VecV& /*a*/,
+                     TermDerivatives& out) const override {
+    out.qdot_q.setZero(9, 9);
+    out.N.setIdentity(9, 9);
+    out.Ma_q.setZero(9, 9);
+    out.f_q.setZero(9, 9);
+    out.f_v.setZero(9, 9);
+    out.gamma_q.setZero(6, 9);
+    VecC phi_unused;
+    orthonormality_constraints(rows_to_matrix(v), phi_unused, out.gamma_v);
+    out.gamma_v *= -2.0;
+  }
+  void constraint_hessian_weighted(const VecQ& /*q*/, const VecC& m, MatQQ& out) const override {
+    orthonormality_hessian_weighted(m, out);
+  }
+  void constraint_hessian_applied(const VecQ& /*q*/, const VecQ& w, MatCQ& out) const override {
+    orthonormality_hessian_applied(w, out);
+  }
+
   void from_physical(const Mat3& R_WB, const Vec3& omega_B, VecQ& q, VecV& v) const override {
     matrix_to_rows(R_WB, q);
     matrix_to_rows(R_WB * so3::hat(omega_B), v);

@@ -7,6 +7,7 @@
 // Unknowns: q (4), omega_B (3).
 #include "coordinate_maps.hpp"
 #include "factories.hpp"
+#include "rigid_body_derivatives.hpp"
 
 namespace rigidae::coords {
 
@@ -32,6 +33,35 @@ class QuaternionEuler final : public Representation {
     out.phi.resize(1);
     out.phi(0) = qq.squaredNorm() - 1.0;
     out.phi_q = 2.0 * qq.transpose();
+  }
+
+  void differentiate(double /*t*/, const VecQ& q, const VecV& v, const VecV& /*a*/,
+                     TermDerivatives& out) const override {
+    const Vec4 qq = q.head<4>();
+    const Vec3 w = v.head<3>();
+    // L(q) w = q (x) (0, w) is linear in q: d/dq = [0, -w^T; w, -hat(w)].
+    out.qdot_q.resize(4, 4);
+    out.qdot_q(0, 0) = 0.0;
+    out.qdot_q.block<1, 3>(0, 1) = -0.5 * w.transpose();
+    out.qdot_q.block<3, 1>(1, 0) = 0.5 * w;
+    out.qdot_q.block<3, 3>(1, 1) = -0.5 * so3::hat(w);
+    out.N = 0.5 * quaternion_rate_map(qq);
+    out.Ma_q.setZero(3, 4);  // M = J
+    // tau(R(q)) with the homogeneous R(q): d tau/dq_k = c x (m R_k^T g).
+    const std::array<Mat3, 4> Rk = quaternion_placement_partials(qq);
+    const Vec3 mg = body_.mass * body_.gravity_W;
+    out.f_q.resize(3, 4);
+    for (int k = 0; k < 4; ++k) out.f_q.col(k) = body_.c_B.cross(Rk[k].transpose() * mg);
+    out.f_v = gyroscopic_derivative(body_, w);
+    out.gamma_q.resize(0, 4);
+    out.gamma_v.resize(0, 3);
+  }
+  // Phi = q.q - 1: the Hessian is 2 I.
+  void constraint_hessian_weighted(const VecQ& /*q*/, const VecC& m, MatQQ& out) const override {
+    out = (2.0 * m(0)) * MatQQ::Identity(4, 4);
+  }
+  void constraint_hessian_applied(const VecQ& /*q*/, const VecQ& w, MatCQ& out) const override {
+    out = 2.0 * w.head<4>().transpose();
   }
 
   void from_physical(const Mat3& R_WB, const Vec3& omega_B, VecQ& q, VecV& v) const override {

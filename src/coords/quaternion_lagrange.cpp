@@ -15,22 +15,14 @@ namespace rigidae::coords {
 
 namespace {
 
-// R_k = dR/dq_k for R(q) = (w^2 - v.v) I + 2 v v^T + 2 w hat(v).
-std::array<Mat3, 4> quaternion_placement_partials(const Vec4& q) {
-  const double w = q(0);
-  const Vec3 v = q.tail<3>();
-  std::array<Mat3, 4> Rk;
-  Rk[0] = 2.0 * (w * Mat3::Identity() + so3::hat(v));
-  for (int i = 0; i < 3; ++i) {
-    const Vec3 e = Vec3::Unit(i);
-    Rk[i + 1] = 2.0 * (-v(i) * Mat3::Identity() + e * v.transpose() + v * e.transpose() + w * so3::hat(e));
-  }
-  return Rk;
-}
-
 class QuaternionLagrange final : public Representation {
  public:
-  explicit QuaternionLagrange(const RigidBodyModel& body) : body_(body) {}
+  explicit QuaternionLagrange(const RigidBodyModel& body) : body_(body) {
+    for (int m = 0; m < 4; ++m) {
+      const std::array<Mat3, 4> Rk = quaternion_placement_partials(Vec4::Unit(m));
+      for (int k = 0; k < 4; ++k) second_partials_[k][m] = Rk[k];
+    }
+  }
 
   std::string name() const override { return "quaternion/lagrange"; }
   int nq() const override { return 4; }
@@ -63,6 +55,50 @@ class QuaternionLagrange final : public Representation {
     out.gamma(0) = -2.0 * qd.squaredNorm();
   }
 
+  // With <A, B> the Frobenius product, R_k linear in q and C_km = R_k(e_m):
+  //   (M a)_k = <R_k E, R_a>,  R_a = sum_l a_l R_l(q)
+  //     d/dq_m: <C_km E, R_a> + <R_k E, R_m(a)>   (sum_l a_l C_lm = R_m(a))
+  //   f_k = m g.(R_k c) - 2 <R_k E, R(q')>
+  //     d/dq_m:  m g.(C_km c) - 2 <C_km E, R(q')>
+  //     d/dq'_l: -2 <R_k E, R_l(q')>
+  void differentiate(double /*t*/, const VecQ& q, const VecV& v, const VecV& a, TermDerivatives& out) const override {
+    const Vec4 qq = q.head<4>();
+    const Vec4 qd = v.head<4>();
+    const Vec4 aa = a.head<4>();
+    const std::array<Mat3, 4> Rk = quaternion_placement_partials(qq);
+    const std::array<Mat3, 4> Rk_of_a = quaternion_placement_partials(aa);
+    const std::array<Mat3, 4> Rk_of_qd = quaternion_placement_partials(qd);
+    const Mat3 R_of_qd = so3::quaternion_to_matrix(qd);
+    Mat3 R_a = Mat3::Zero();
+    for (int l = 0; l < 4; ++l) R_a += aa(l) * Rk[l];
+    const Vec3 mg = body_.mass * body_.gravity_W;
+    const Mat3& E = body_.E_B;
+
+    out.qdot_q.setZero(4, 4);
+    out.N.setIdentity(4, 4);
+    out.Ma_q.resize(4, 4);
+    out.f_q.resize(4, 4);
+    out.f_v.resize(4, 4);
+    for (int k = 0; k < 4; ++k) {
+      const Mat3 RkE = Rk[k] * E;
+      for (int m = 0; m < 4; ++m) {
+        const Mat3 CkmE = second_partials_[k][m] * E;
+        out.Ma_q(k, m) = CkmE.cwiseProduct(R_a).sum() + RkE.cwiseProduct(Rk_of_a[m]).sum();
+        out.f_q(k, m) = mg.dot(second_partials_[k][m] * body_.c_B) - 2.0 * CkmE.cwiseProduct(R_of_qd).sum();
+        out.f_v(k, m) = -2.0 * RkE.cwiseProduct(Rk_of_qd[m]).sum();
+      }
+    }
+    out.gamma_q.setZero(1, 4);
+    out.gamma_v = -4.0 * qd.transpose();
+  }
+  // Phi = q.q - 1: the Hessian is 2 I.
+  void constraint_hessian_weighted(const VecQ& /*q*/, const VecC& m, MatQQ& out) const override {
+    out = (2.0 * m(0)) * MatQQ::Identity(4, 4);
+  }
+  void constraint_hessian_applied(const VecQ& /*q*/, const VecQ& w, MatCQ& out) const override {
+    out = 2.0 * w.head<4>().transpose();
+  }
+
   void from_physical(const Mat3& R_WB, const Vec3& omega_B, VecQ& q, VecV& v) const override {
     const Vec4 qq = so3::matrix_to_quaternion(R_WB);
     q = qq;
@@ -79,6 +115,7 @@ class QuaternionLagrange final : public Representation {
 
  private:
   RigidBodyModel body_;
+  std::array<std::array<Mat3, 4>, 4> second_partials_;  // C_km = d^2 R / dq_k dq_m, constant
 };
 
 }  // namespace

@@ -34,6 +34,31 @@ void DaeSystem::residual(double t, const double* y, const double* yp, double* F)
 
 void DaeSystem::iteration_matrix(double t, double cj, const double* y, const double* yp, double* J) const {
   const int n = layout_.size();
+  const Eigen::Map<const Eigen::VectorXd> ym(y, n), ypm(yp, n);
+  const ConstVecRef y_ref(ym), yp_ref(ypm);
+  Eigen::Map<Eigen::MatrixXd> Jm(J, n, n);
+  const VecQ q = coordinates(y);
+  const VecV v = velocities(y);
+  const VecV a = ypm.segment(layout_.v_offset(), layout_.nv);
+  rep_->evaluate(t, q, v, terms_);
+  rep_->differentiate(t, q, v, a, derivs_);
+  Jm.setZero();
+  scheme_->iteration_matrix({*rep_, terms_, derivs_, layout_, y_ref, yp_ref, cj}, Jm);
+}
+
+bool DaeSystem::structurally_nonzero(int row, int col) const {
+  const UnknownLayout& lay = layout_;
+  const auto group = [&](int i) {  // 0 q, 1 v, 2 lambda, 3 mu
+    return i < lay.v_offset() ? 0 : i < lay.lambda_offset() ? 1 : i < lay.mu_offset() ? 2 : 3;
+  };
+  const int rg = group(row), cg = group(col);
+  if (cg <= 1) return true;            // every row depends on q and v (or q', v')
+  if (cg == 2) return rg == 1;         // G^T lambda in the dynamic rows
+  return rg == 0;                      // Phi_q^T mu in the kinematic rows
+}
+
+void DaeSystem::iteration_matrix_central(double t, double cj, const double* y, const double* yp, double* J) const {
+  const int n = layout_.size();
   Eigen::Map<Eigen::MatrixXd> Jm(J, n, n);
   y_pert_ = Eigen::Map<const Eigen::VectorXd>(y, n);
   yp_pert_ = Eigen::Map<const Eigen::VectorXd>(yp, n);

@@ -61,8 +61,8 @@ constexpr std::array<std::string_view, 4> kEulerAnglesKeys{"sequence", "conventi
                                                            "switch_threshold"};
 constexpr std::array<std::string_view, 2> kBaumgarteKeys{"a", "b"};
 constexpr std::array<std::string_view, 2> kProjectionKeys{"when", "threshold"};
-constexpr std::array<std::string_view, 6> kSolverKeys{"rtol", "atol", "max_steps", "max_order",
-                                                      "initial_step", "jacobian"};
+constexpr std::array<std::string_view, 7> kSolverKeys{"rtol",         "atol",     "max_steps",    "max_order",
+                                                      "initial_step", "jacobian", "linear_solver"};
 
 constexpr std::array<std::string_view, 4> kOrientationForms{"quaternion", "euler", "matrix",
                                                             "axis_angle"};
@@ -525,8 +525,15 @@ void read_solver(const TomlReader& r, const toml::table& root, Scene& scene) {
     sol.initial_step = v;
   }
   if (const toml::node* n = s->get("jacobian")) {
-    static constexpr std::array<std::string_view, 2> kJacobians{"central", "ida_dq"};
+    static constexpr std::array<std::string_view, 3> kJacobians{"exact", "central", "ida_dq"};
     sol.jacobian = std::string(kJacobians[r.choice(*n, "solver.jacobian", kJacobians)]);
+  }
+  if (const toml::node* n = s->get("linear_solver")) {
+    static constexpr std::array<std::string_view, 2> kLinearSolvers{"dense", "klu"};
+    sol.linear_solver = std::string(kLinearSolvers[r.choice(*n, "solver.linear_solver", kLinearSolvers)]);
+    if (sol.linear_solver == "klu" && sol.jacobian == "ida_dq")
+      r.fail(*n, "'solver.linear_solver' = \"klu\" needs 'solver.jacobian' = \"exact\" or \"central\" (IDA's "
+                 "difference quotients fill dense matrices only)");
   }
 }
 

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "factories.hpp"
+#include "jacobian_rows.hpp"
 #include "scheme_rows.hpp"
 
 namespace rigidae::schemes {
@@ -44,6 +45,21 @@ class BaumgarteScheme final : public ConstraintScheme {
       auto rows = F.segment(lay.mu_offset(), lay.n_mu);
       velocity_level_rows(t, lay, y, yp, rows);
       rows += a_ * t.phi;
+    }
+  }
+
+  void iteration_matrix(const JacobianInputs& in, MatRef J) const override {
+    add_kinematic_jacobian(in, J);
+    add_dynamic_jacobian(in, J);
+    if (in.lay.n_lambda > 0) {
+      const int row = in.lay.lambda_offset();
+      add_acceleration_level_jacobian(in, row, J);
+      add_velocity_level_jacobian(in, row, 2.0 * a_, J);
+      add_position_level_jacobian(in, row, b_ * b_, J);
+    } else if (in.lay.n_mu > 0) {
+      const int row = in.lay.mu_offset();
+      add_velocity_level_jacobian(in, row, 1.0, J);
+      add_position_level_jacobian(in, row, a_, J);
     }
   }
 

@@ -9,6 +9,7 @@
 // on the exact solution. lambda and mu are index 2: they leave IDA's error
 // test (IDASetSuppressAlg), as index-2 BDF theory requires.
 #include "factories.hpp"
+#include "jacobian_rows.hpp"
 #include "scheme_rows.hpp"
 
 namespace rigidae::schemes {
@@ -31,6 +32,13 @@ class GglScheme final : public ConstraintScheme {
     if (lay.n_lambda > 0)
       F.segment(lay.lambda_offset(), lay.n_lambda).noalias() = t.G * y.segment(lay.v_offset(), lay.nv);
     if (lay.n_mu > 0) F.segment(lay.mu_offset(), lay.n_mu) = t.phi;
+  }
+
+  void iteration_matrix(const JacobianInputs& in, MatRef J) const override {
+    add_kinematic_jacobian(in, J);
+    add_dynamic_jacobian(in, J);
+    if (in.lay.n_lambda > 0) add_velocity_level_jacobian(in, in.lay.lambda_offset(), 1.0, J);
+    if (in.lay.n_mu > 0) add_position_level_jacobian(in, in.lay.mu_offset(), 1.0, J);
   }
 };
 

@@ -9,6 +9,7 @@
 //   q' = N v,  M v' = f
 // with no multiplier at all; Phi drifts with the integration error only.
 #include "factories.hpp"
+#include "jacobian_rows.hpp"
 #include "scheme_rows.hpp"
 
 namespace rigidae::schemes {
@@ -31,6 +32,8 @@ class Index1Scheme final : public ConstraintScheme {
                 VecRef F) const override {
     index1_residual(t, lay, y, yp, F);
   }
+
+  void iteration_matrix(const JacobianInputs& in, MatRef J) const override { add_index1_jacobian(in, J); }
 };
 
 }  // namespace

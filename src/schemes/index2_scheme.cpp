@@ -6,6 +6,7 @@
 // The position level Phi = 0 is not enforced: it drifts, in the Force kind
 // about linearly in time (the integral of the velocity-level residual).
 #include "factories.hpp"
+#include "jacobian_rows.hpp"
 #include "scheme_rows.hpp"
 
 namespace rigidae::schemes {
@@ -29,6 +30,12 @@ class Index2Scheme final : public ConstraintScheme {
     kinematic_rows(t, lay, y, yp, F);
     dynamic_rows(t, lay, y, yp, F);
     if (lay.n_lambda + lay.n_mu > 0) velocity_level_rows(t, lay, y, yp, constraint_rows(lay, F));
+  }
+
+  void iteration_matrix(const JacobianInputs& in, MatRef J) const override {
+    add_kinematic_jacobian(in, J);
+    add_dynamic_jacobian(in, J);
+    if (in.lay.n_lambda + in.lay.n_mu > 0) add_velocity_level_jacobian(in, constraint_row(in.lay), 1.0, J);
   }
 };
 

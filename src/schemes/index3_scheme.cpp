@@ -9,6 +9,7 @@
 // kinematics, q' = N v - Phi_q^T mu, Phi(q) = 0: one differentiation fixes
 // mu, so the system is index 2, with the same rows as ggl.
 #include "factories.hpp"
+#include "jacobian_rows.hpp"
 #include "scheme_rows.hpp"
 
 namespace rigidae::schemes {
@@ -36,6 +37,12 @@ class Index3Scheme final : public ConstraintScheme {
     kinematic_rows(t, lay, y, yp, F);
     dynamic_rows(t, lay, y, yp, F);
     if (lay.n_lambda + lay.n_mu > 0) position_level_rows(t, constraint_rows(lay, F));
+  }
+
+  void iteration_matrix(const JacobianInputs& in, MatRef J) const override {
+    add_kinematic_jacobian(in, J);
+    add_dynamic_jacobian(in, J);
+    if (in.lay.n_lambda + in.lay.n_mu > 0) add_position_level_jacobian(in, constraint_row(in.lay), 1.0, J);
   }
 };
 

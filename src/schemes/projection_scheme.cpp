@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "factories.hpp"
+#include "jacobian_rows.hpp"
 #include "scheme_rows.hpp"
 
 namespace rigidae::schemes {
@@ -36,6 +37,8 @@ class ProjectionScheme final : public ConstraintScheme {
                 VecRef F) const override {
     index1_residual(t, lay, y, yp, F);
   }
+
+  void iteration_matrix(const JacobianInputs& in, MatRef J) const override { add_index1_jacobian(in, J); }
 
  private:
   ProjectionPolicy policy_;

@@ -5,8 +5,11 @@
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
+#include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_dense.h>
+#include <sunmatrix/sunmatrix_sparse.h>
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
 
@@ -57,15 +60,16 @@ struct IdaSession {
   SUNLinearSolver LS = nullptr;
   void* mem = nullptr;
 
-  explicit IdaSession(int n) {
+  // nnz > 0: a sparse (CSC) matrix with that many entries and KLU.
+  IdaSession(int n, long nnz) {
     if (SUNContext_Create(nullptr, &ctx) != 0) throw SolverError("SUNContext_Create failed");
     y = N_VNew_Serial(n, ctx);
     yp = N_VNew_Serial(n, ctx);
     id = N_VNew_Serial(n, ctx);
     atol = N_VNew_Serial(n, ctx);
     dky = N_VNew_Serial(n, ctx);
-    A = SUNDenseMatrix(n, n, ctx);
-    LS = SUNLinSol_Dense(y, A, ctx);
+    A = nnz > 0 ? SUNSparseMatrix(n, n, nnz, CSC_MAT, ctx) : SUNDenseMatrix(n, n, ctx);
+    LS = !A ? nullptr : nnz > 0 ? SUNLinSol_KLU(y, A, ctx) : SUNLinSol_Dense(y, A, ctx);
     mem = IDACreate(ctx);
     if (!y || !yp || !id || !atol || !dky || !A || !LS || !mem) throw SolverError("out of memory creating IDA");
   }
@@ -81,10 +85,31 @@ struct IdaSession {
   IdaSession& operator=(const IdaSession&) = delete;
 };
 
+// The iteration matrix's nonzero pattern in compressed sparse columns.
+struct SparsePattern {
+  std::vector<sunindextype> col_start;  // n + 1
+  std::vector<sunindextype> rows;       // nnz, ascending within a column
+};
+
+SparsePattern sparse_pattern(const DaeSystem& dae) {
+  SparsePattern p;
+  const int n = dae.size();
+  p.col_start.push_back(0);
+  for (int c = 0; c < n; ++c) {
+    for (int r = 0; r < n; ++r)
+      if (dae.structurally_nonzero(r, c)) p.rows.push_back(r);
+    p.col_start.push_back(static_cast<sunindextype>(p.rows.size()));
+  }
+  return p;
+}
+
 struct CallbackData {
-  const DaeSystem* dae;
-  double threshold;
-  std::exception_ptr error;  // never thrown through C; rethrown by the driver
+  const DaeSystem* dae = nullptr;
+  double threshold = 0.0;
+  bool exact_jacobian = true;  // else central differences
+  SparsePattern pattern;       // empty for dense linear algebra
+  std::vector<double> dense;   // n x n scratch when the matrix is sparse
+  std::exception_ptr error;    // never thrown through C; rethrown by the driver
 };
 
 int residual_callback(realtype t, N_Vector yy, N_Vector yp, N_Vector rr, void* user_data) {
@@ -105,7 +130,22 @@ int jacobian_callback(realtype t, realtype cj, N_Vector yy, N_Vector yp, N_Vecto
                       void* user_data, N_Vector /*t1*/, N_Vector /*t2*/, N_Vector /*t3*/) {
   auto* data = static_cast<CallbackData*>(user_data);
   try {
-    data->dae->iteration_matrix(t, cj, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp), SUNDenseMatrix_Data(J));
+    const bool sparse = !data->pattern.rows.empty();
+    double* M = sparse ? data->dense.data() : SUNDenseMatrix_Data(J);
+    if (data->exact_jacobian)
+      data->dae->iteration_matrix(t, cj, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp), M);
+    else
+      data->dae->iteration_matrix_central(t, cj, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp), M);
+    if (sparse) {
+      // IDA zeroes the whole sparse matrix, structure included, before each call.
+      const SparsePattern& p = data->pattern;
+      const std::size_t n = p.col_start.size() - 1;
+      std::copy(p.col_start.begin(), p.col_start.end(), SUNSparseMatrix_IndexPointers(J));
+      std::copy(p.rows.begin(), p.rows.end(), SUNSparseMatrix_IndexValues(J));
+      double* values = SUNSparseMatrix_Data(J);
+      for (std::size_t c = 0; c < n; ++c)
+        for (sunindextype k = p.col_start[c]; k < p.col_start[c + 1]; ++k) values[k] = M[c * n + p.rows[k]];
+    }
     return 0;
   } catch (...) {
     data->error = std::current_exception();
@@ -209,8 +249,19 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
   const bool watch_charts = rep.has_charts();
 
   RunResult result;
-  IdaSession ida(n);
-  CallbackData data{&dae, charts.switch_threshold, nullptr};
+  CallbackData data;
+  data.dae = &dae;
+  data.threshold = charts.switch_threshold;
+  data.exact_jacobian = opt.jacobian == "exact";
+  const bool klu = opt.linear_solver == "klu";
+  if (klu) {
+    if (opt.jacobian == "ida_dq")
+      throw InputError("solver.linear_solver = \"klu\" needs solver.jacobian = \"exact\" or \"central\": IDA's "
+                       "difference quotients fill dense and banded matrices only");
+    data.pattern = sparse_pattern(dae);
+    data.dense.resize(static_cast<std::size_t>(n) * n);
+  }
+  IdaSession ida(n, static_cast<long>(data.pattern.rows.size()));
 
   Eigen::VectorXd y, yp;
   dae.consistent_state(span.start, scene.R0_WB, scene.omega0_B, y, yp);
@@ -268,7 +319,7 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
   check(IDASetSuppressAlg(ida.mem, dae.scheme().suppress_multiplier_error_test() ? SUNTRUE : SUNFALSE),
         "IDASetSuppressAlg");
   check(IDASetLinearSolver(ida.mem, ida.LS, ida.A), "IDASetLinearSolver");
-  if (opt.jacobian == "central") check(IDASetJacFn(ida.mem, jacobian_callback), "IDASetJacFn");
+  if (opt.jacobian != "ida_dq") check(IDASetJacFn(ida.mem, jacobian_callback), "IDASetJacFn");
   check(IDASetMaxOrd(ida.mem, opt.max_order), "IDASetMaxOrd");
   check(IDASetStopTime(ida.mem, span.end), "IDASetStopTime");
   const double h0 =

@@ -44,6 +44,19 @@ struct StandardTerms {
   VecC gamma;   // acceleration level: G v' = gamma
 };
 
+// Derivatives of the standard terms at one (t, q, v), for the exact
+// iteration matrix. Sizes: qdot_q nq x nq; N nq x nv; Ma_q, f_q nv x nq;
+// f_v nv x nv; gamma_q nc x nq and gamma_v nc x nv (Force kind only).
+struct TermDerivatives {
+  MatQQ qdot_q;   // d(N(q) v)/dq
+  MatQV N;        // d(N(q) v)/dv
+  MatVQ Ma_q;     // d(M(q) a)/dq for the acceleration a given to differentiate()
+  MatVQ f_q;      // df/dq
+  MatVV f_v;      // df/dv
+  MatCQ gamma_q;  // d(gamma)/dq
+  MatCV gamma_v;  // d(gamma)/dv
+};
+
 class Representation {
  public:
   virtual ~Representation() = default;
@@ -59,6 +72,18 @@ class Representation {
 
   // The hot path: called once per residual evaluation; must not allocate.
   virtual void evaluate(double t, const VecQ& q, const VecV& v, StandardTerms& out) const = 0;
+
+  // The derivatives of evaluate()'s terms at (t, q, v), with the mass
+  // matrix's applied to the acceleration a (v' of the state). Hot path: must
+  // not allocate.
+  virtual void differentiate(double t, const VecQ& q, const VecV& v, const VecV& a, TermDerivatives& out) const = 0;
+  // Second derivatives of the constraints, contracted (hot path, no
+  // allocation): d(Phi_q^T m)/dq (nq x nq) for multipliers m, which is also
+  // d(G^T m)/dq in the Force kind (G = Phi_q there) ...
+  virtual void constraint_hessian_weighted(const VecQ& q, const VecC& m, MatQQ& out) const;
+  // ... and d(Phi_q w)/dq (nc x nq) for a vector w of coordinate rates
+  // (d(G w)/dq in the Force kind). The defaults are for nc = 0.
+  virtual void constraint_hessian_applied(const VecQ& q, const VecQ& w, MatCQ& out) const;
 
   // Coordinates and velocities of a physical state (R_WB an exact rotation).
   virtual void from_physical(const Mat3& R_WB, const Vec3& omega_B, VecQ& q, VecV& v) const = 0;

@@ -28,5 +28,11 @@ using VecC = BoundedVec<kMaxConstraints>;
 using MatVV = BoundedMat<kMaxVelocities, kMaxVelocities>;
 using MatCQ = BoundedMat<kMaxConstraints, kMaxCoordinates>;
 using MatCV = BoundedMat<kMaxConstraints, kMaxVelocities>;
+using MatQQ = BoundedMat<kMaxCoordinates, kMaxCoordinates>;
+using MatQV = BoundedMat<kMaxCoordinates, kMaxVelocities>;
+using MatVQ = BoundedMat<kMaxVelocities, kMaxCoordinates>;
+
+// The largest DAE: q, v, and two multiplier groups (GGL in linear coordinates).
+inline constexpr int kMaxUnknowns = kMaxCoordinates + kMaxVelocities + 2 * kMaxConstraints;
 
 }  // namespace rigidae

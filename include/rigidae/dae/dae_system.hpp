@@ -35,13 +35,24 @@ class DaeSystem {
   // The hot path: F = F(t, y, y'); arrays of size size(). Allocates nothing.
   void residual(double t, const double* y, const double* yp, double* F) const;
 
-  // The iteration matrix dF/dy + cj dF/dy' (column-major n x n into J).
-  // dF/dy' exactly: F is affine in y'. dF/dy by central differences, whose
-  // O(d^2) error (~1e-11 relative) keeps Newton converging on index-2 forms
-  // at tight tolerances, where IDA's forward differences (~1e-8) do not.
+  // The iteration matrix dF/dy + cj dF/dy' (column-major n x n into J),
+  // exact: the representation's term derivatives assembled by the scheme.
+  // Allocates nothing.
   void iteration_matrix(double t, double cj, const double* y, const double* yp, double* J) const;
 
-  // Residual evaluations spent in iteration_matrix so far.
+  // The same matrix with dF/dy by central differences (dF/dy' exactly: F is
+  // affine in y'), whose O(d^2) error (~1e-11 relative) keeps Newton
+  // converging on index-2 forms at tight tolerances, where IDA's forward
+  // differences (~1e-8) do not. 3n + 1 residual evaluations.
+  void iteration_matrix_central(double t, double cj, const double* y, const double* yp, double* J) const;
+
+  // Whether entry (row, col) of the iteration matrix can be nonzero in any
+  // state: multipliers enter only through Phi_q^T mu (kinematic rows) and
+  // G^T lambda (dynamic rows), and no constraint row depends on them. The
+  // pattern a sparse linear solver factors once.
+  bool structurally_nonzero(int row, int col) const;
+
+  // Residual evaluations spent in iteration_matrix_central so far.
   long jacobian_residual_evaluations() const { return jacobian_residual_evals_; }
 
   // A consistent (y, y') at t for a physical state; see ConstraintScheme::consistent_start.
@@ -74,7 +85,8 @@ class DaeSystem {
   std::unique_ptr<ConstraintScheme> scheme_;
   UnknownLayout layout_;
   mutable StandardTerms terms_;  // scratch for the hot path
-  mutable Eigen::VectorXd y_pert_, yp_pert_, F_plus_, F_minus_, F_base_;  // scratch for iteration_matrix
+  mutable TermDerivatives derivs_;
+  mutable Eigen::VectorXd y_pert_, yp_pert_, F_plus_, F_minus_, F_base_;  // scratch for iteration_matrix_central
   mutable long jacobian_residual_evals_ = 0;
 };
 

@@ -36,6 +36,18 @@ struct UnknownLayout {
 
 using VecRef = Eigen::Ref<Eigen::VectorXd>;
 using ConstVecRef = Eigen::Ref<const Eigen::VectorXd>;
+using MatRef = Eigen::Ref<Eigen::MatrixXd>;
+
+// What a scheme reads to assemble its exact iteration matrix at (t, y, y').
+struct JacobianInputs {
+  const Representation& rep;
+  const StandardTerms& terms;    // at (q, v) of y
+  const TermDerivatives& derivs;  // at (q, v) of y, M's with a = v' of y'
+  const UnknownLayout& lay;
+  const ConstVecRef& y;
+  const ConstVecRef& yp;
+  double cj;  // IDA's dF/dy' coefficient
+};
 
 class ConstraintScheme {
  public:
@@ -58,6 +70,10 @@ class ConstraintScheme {
   // The hot path: F(t, y, y') from the terms evaluated at (q, v) of y.
   virtual void residual(const StandardTerms& terms, const UnknownLayout& lay, const ConstVecRef& y,
                         const ConstVecRef& yp, VecRef F) const = 0;
+
+  // The hot path: the exact iteration matrix dF/dy + cj dF/dy' of residual()
+  // (n x n), added into J, which the caller has zeroed.
+  virtual void iteration_matrix(const JacobianInputs& in, MatRef J) const = 0;
 
   // Given q, v in y (already on the constraint manifold), fills the
   // multipliers of y and all of yp so that the residual vanishes to round-off:
