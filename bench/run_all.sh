@@ -6,8 +6,8 @@
 #                         [--no-peers] [--no-callgrind] [--no-memory]
 #
 # --jacobians   Jacobian kinds to measure rigidae and the bare loop with
-#               (solver.jacobian; default central,ida_dq; after exact
-#               Jacobians: exact,central). The first one is drawn in the figures.
+#               (solver.jacobian; default exact,central). The first one is
+#               drawn in the figures.
 # --repeats N   wall times are medians of N runs (default 3)
 # --budget S    a setting is not repeated once its runs took S seconds (default 1.5)
 # --no-peers    keep bench/peers/results.jsonl from an earlier run
@@ -32,7 +32,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
 
-jacobians=central,ida_dq
+jacobians=exact,central
 repeats=3
 budget=1.5
 peers=1
