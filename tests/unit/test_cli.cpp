@@ -149,3 +149,34 @@ TEST_CASE("cli: scheme parameters are options with checked values") {
   r = run_cli("solve " + kScene + " --projection-threshold 0");
   CHECK(r.exit_code == 2);
 }
+
+TEST_CASE("rigidae study: list prints one command per run, run needs a slice, collect reports what is missing") {
+  const auto dir = std::filesystem::temp_directory_path() / "rigidae_cli_tests" / "study";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "s.toml") << "schema_version = 1\nname = \"s\"\nscenes = [\"" << RIGIDAE_SOURCE_DIR
+                                << "/problems/free_body.toml\"]\n[grid]\ncombinations = [\"euler/euler/any\", "
+                                   "\"quaternion/euler/index1\"]\nrtol = [1e-4, 1e-5]\n[timing]\nwarmups = 0\nrepeats = 1\n";
+  const std::string study = (dir / "s.toml").string() + " --out " + (dir / "out").string();
+  const Result list = run_cli("study list " + study);
+  CHECK(list.exit_code == 0);
+  int commands = 0;
+  for (std::size_t at = list.output.find(" study run "); at != std::string::npos;
+       at = list.output.find(" study run ", at + 1))
+    ++commands;
+  CHECK(commands == 4);
+  CHECK(list.output.find("--run free_body/euler-euler-any/rtol_0.0001_atol_0.0001") != std::string::npos);
+
+  const Result no_slice = run_cli("study run " + study);
+  CHECK(no_slice.exit_code == 2);
+  CHECK(no_slice.output.find("needs --shard i/N, --run ID") != std::string::npos);
+
+  CHECK(run_cli("study run " + study + " --shard 0/2 --quiet").exit_code == 0);
+  const Result partial = run_cli("study collect " + study + " --no-plot --quiet");
+  CHECK(partial.exit_code == 1);
+  CHECK(partial.output.find("2 runs of the study have no complete folder yet") != std::string::npos);
+  CHECK(run_cli("study run " + study + " --shard 1/2 --quiet").exit_code == 0);
+  CHECK(run_cli("study collect " + study + " --no-plot --quiet").exit_code == 0);
+  CHECK(std::filesystem::exists(dir / "out" / "results.csv"));
+  CHECK(std::filesystem::exists(dir / "out" / "best.md"));
+}
