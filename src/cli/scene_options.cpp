@@ -40,8 +40,8 @@ double parse_in_open_unit(const std::string& opt, const std::string& text) {
 
 }  // namespace
 
-const char* kSceneOptionsHelp = R"(  --rtol X                relative tolerance, 0 < X < 1
-  --atol X                absolute tolerance, 0 < X < 1
+const char* kSceneOptionsHelp = R"(  --rtol X                relative tolerance, 1e-14 <= X < 1
+  --atol X                absolute tolerance, 1e-100 <= X < 1
   --t-end T               end time in s (> the scene's start time)
   --output-step X         output grid spacing in s
   --max-steps N           limit on internal IDA steps
@@ -105,11 +105,18 @@ void apply_scene_option(Scene& scene, const std::string& opt, const std::string&
     if (std::find(names.begin(), names.end(), text) == names.end())
       throw InputError(fmt::format("option --scheme: unknown value '{}'; valid values: {}", text, valid_list(names)));
     form.scheme = text;
-  } else if (opt == "--rtol")
+  } else if (opt == "--rtol") {
     scene.solver.rtol = parse_in_open_unit(opt, text);
-  else if (opt == "--atol")
+    if (scene.solver.rtol < kMinRelativeTolerance)
+      throw InputError(fmt::format("option --rtol: {} is below {:g}, where round-off in double precision exceeds "
+                                   "the tolerance and the step size collapses",
+                                   text, kMinRelativeTolerance));
+  } else if (opt == "--atol") {
     scene.solver.atol = parse_in_open_unit(opt, text);
-  else if (opt == "--switch-threshold")
+    if (scene.solver.atol < kMinAbsoluteTolerance)
+      throw InputError(fmt::format("option --atol: {} is below {:g}, where IDA's weighted norms overflow", text,
+                                   kMinAbsoluteTolerance));
+  } else if (opt == "--switch-threshold")
     form.euler.switch_threshold = parse_in_open_unit(opt, text);
   else if (opt == "--projection-threshold")
     form.projection.threshold = parse_in_open_unit(opt, text);

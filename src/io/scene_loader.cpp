@@ -20,7 +20,6 @@
 #include <iostream>
 #include <optional>
 #include <span>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -93,6 +92,10 @@ constexpr double kMaxGravity = 1e4;              // m/s^2
 constexpr double kMaxCenterOfMass = 1e6;         // m
 constexpr double kMaxOutputIntervals = 1e8;      // (end - start) / output_step
 constexpr double kMaxBaumgarteGain = 1e8;        // 1/s
+constexpr double kMinRtol = kMinRelativeTolerance;  // see scene.hpp
+constexpr double kMaxTime = 1e9;                 // s, |time.start| and |time.end| (about 32 years)
+constexpr std::size_t kMaxNameBytes = 100;       // the name becomes part of the default output folder
+constexpr std::size_t kMaxSceneBytes = 1 << 20;  // a scene is a few hundred bytes; a bigger file is a mistake
 
 constexpr double kInertiaSymmetryTol = 1e-12;    // relative
 constexpr double kTriangleTol = 1e-12;           // relative to the trace
@@ -106,9 +109,12 @@ constexpr double kUnitTolSilent = 1e-12;         // below: fixed without a warni
 char lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
 
 // Optimal-string-alignment distance (insertions, deletions, substitutions and
-// adjacent transpositions), case-insensitive.
+// adjacent transpositions), case-insensitive. Words whose lengths differ by
+// more than 2 are never suggestions, so they are not compared: a hostile
+// megabyte-long key would otherwise cost a table of n x m entries.
 std::size_t edit_distance(std::string_view a, std::string_view b) {
   const std::size_t n = a.size(), m = b.size();
+  if ((n > m ? n - m : m - n) > 2) return 3;
   std::vector<std::vector<std::size_t>> d(n + 1, std::vector<std::size_t>(m + 1));
   for (std::size_t i = 0; i <= n; ++i) d[i][0] = i;
   for (std::size_t j = 0; j <= m; ++j) d[0][j] = j;
@@ -121,6 +127,37 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
     }
   }
   return d[n][m];
+}
+
+// User text as it may be echoed in a message: control characters (C0, DEL,
+// C1 and the bidirectional overrides) written as escapes, so that a key or
+// value cannot drive the terminal, and anything past `max_bytes` cut at a
+// character boundary with its full length stated.
+std::string printable(std::string_view s, std::size_t max_bytes = 60) {
+  std::string out;
+  std::size_t i = 0;
+  for (; i < s.size() && out.size() < max_bytes; ++i) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (c < 0x20 || c == 0x7f) {
+      out += fmt::format("\\x{:02x}", c);
+    } else if (c == 0xc2 && i + 1 < s.size() && static_cast<unsigned char>(s[i + 1]) < 0xa0) {
+      out += fmt::format("\\u{:04x}", static_cast<unsigned char>(s[++i]));  // C1: U+0080..U+009F
+    } else if (c == 0xe2 && i + 2 < s.size() && static_cast<unsigned char>(s[i + 1]) == 0x80 &&
+               static_cast<unsigned char>(s[i + 2]) >= 0xaa && static_cast<unsigned char>(s[i + 2]) <= 0xae) {
+      out += fmt::format("\\u{:04x}", 0x2000 + (static_cast<unsigned char>(s[i + 2]) - 0x80));  // U+202A..E
+      i += 2;
+    } else if (c == 0xe2 && i + 2 < s.size() && static_cast<unsigned char>(s[i + 1]) == 0x81 &&
+               static_cast<unsigned char>(s[i + 2]) >= 0xa6 && static_cast<unsigned char>(s[i + 2]) <= 0xa9) {
+      out += fmt::format("\\u{:04x}", 0x2040 + (static_cast<unsigned char>(s[i + 2]) - 0x80));  // U+2066..9
+      i += 2;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  // Finish a multi-byte character that the length limit cut.
+  while (i < s.size() && (static_cast<unsigned char>(s[i]) & 0xc0) == 0x80) out += s[i++];
+  if (i < s.size()) out += fmt::format("... ({} bytes)", s.size());
+  return out;
 }
 
 // The closest option within edit distance 2, if any.
@@ -213,7 +250,7 @@ class Reader {
     }
     if (!first) return;
     const std::string_view word = first->str();
-    std::string msg = fmt::format("unknown key '{}' in {}", word, table_label(table));
+    std::string msg = fmt::format("unknown key '{}' in {}", printable(word), table_label(table));
     if (auto best = closest(word, allowed)) {
       msg += fmt::format("; did you mean '{}'?", *best);
     } else {
@@ -299,7 +336,7 @@ class Reader {
     const std::string s = string(n, name);
     for (std::size_t i = 0; i < options.size(); ++i)
       if (options[i] == s) return i;
-    std::string msg = fmt::format("'{}' = \"{}\" is not valid", name, s);
+    std::string msg = fmt::format("'{}' = \"{}\" is not valid", name, printable(s));
     if (auto best = closest(s, options)) msg += fmt::format("; did you mean \"{}\"?", *best);
     msg += fmt::format(" (valid: {})", quoted_list(options));
     fail(n, msg);
@@ -347,6 +384,8 @@ class Reader {
 };
 
 std::string fmt_vec(const Vec3& v) { return fmt::format("({}, {}, {})", v[0], v[1], v[2]); }
+// Computed values (not the user's digits): round-off shown as such would only distract.
+std::string fmt_vec6(const Vec3& v) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", v[0], v[1], v[2]); }
 
 // ---------------------------------------------------------------------------
 // Sections
@@ -412,7 +451,7 @@ InertiaSource read_body(const Reader& r, const toml::table& root, Scene& scene) 
     if (!(moments.minCoeff() > 0.0))
       r.fail(*full, fmt::format("'body.inertia' must be positive definite; its principal moments "
                                 "(eigenvalues) are {}",
-                                fmt_vec(moments)));
+                                fmt_vec6(moments)));
     scene.body.inertia_com = I;
   }
   if (const toml::node* c = body.get("center_of_mass")) {
@@ -510,10 +549,14 @@ bool read_convention(const Reader& r, const toml::table& tbl, std::string_view t
 so3::EulerSequence read_sequence(const Reader& r, const toml::node& n, std::string_view name,
                                  bool extrinsic, Vec3* angles) {
   const std::string letters = r.string(n, name);
+  if (letters.size() != 3)
+    r.fail(n, fmt::format("'{}' = \"{}\" is not an Euler sequence: give three axis letters from x, y, z with "
+                          "consecutive letters distinct, e.g. \"zxz\" or \"zyx\"",
+                          name, printable(letters)));
   try {
     return so3::parse_euler_sequence(letters, extrinsic, angles);
   } catch (const std::invalid_argument& e) {
-    r.fail(n, fmt::format("'{}' = \"{}\": {}", name, letters, e.what()));
+    r.fail(n, fmt::format("'{}' = \"{}\": {}", name, printable(letters), printable(e.what(), 1000)));
   }
 }
 
@@ -635,9 +678,17 @@ void read_time(const Reader& r, const toml::table& root, Scene& scene) {
   const toml::table& t = r.required_table(root, "", "time");
   r.check_keys(t, "time", kTimeKeys);
   double start = 0.0;
-  if (const toml::node* s = t.get("start")) start = r.number(*s, "time.start");
+  const auto check_magnitude = [&](const toml::node& n, std::string_view name, double x) {
+    if (std::abs(x) > kMaxTime)
+      r.fail(n, fmt::format("'{}' = {} s is too large; times must lie within +-{:g} s", name, x, kMaxTime));
+  };
+  if (const toml::node* s = t.get("start")) {
+    start = r.number(*s, "time.start");
+    check_magnitude(*s, "time.start", start);
+  }
   const toml::node& end_node = r.required(t, "time", "end", "s, > start");
   const double end = r.number(end_node, "time.end");
+  check_magnitude(end_node, "time.end", end);
   if (!(end > start))
     r.fail(end_node, fmt::format("'time.end' = {} must be greater than 'time.start' = {}", end, start));
   const double span = end - start;
@@ -748,12 +799,18 @@ void read_solver(const Reader& r, const toml::table& root, Scene& scene) {
   SolverSettings& sol = scene.solver;
   if (const toml::node* n = s->get("rtol")) {
     const double v = r.number(*n, "solver.rtol");
-    if (!(v > 0.0 && v < 1.0)) r.fail(*n, fmt::format("'solver.rtol' = {} must lie in (0, 1), e.g. 1e-8", v));
+    if (!(v >= kMinRtol && v < 1.0))
+      r.fail(*n, fmt::format("'solver.rtol' = {} must lie in [{:g}, 1), e.g. 1e-8 (below {:g} round-off in "
+                             "double precision exceeds the tolerance and the step size collapses)",
+                             v, kMinRtol, kMinRtol));
     sol.rtol = v;
   }
   if (const toml::node* n = s->get("atol")) {
     const double v = r.number(*n, "solver.atol");
-    if (!(v > 0.0 && v < 1.0)) r.fail(*n, fmt::format("'solver.atol' = {} must lie in (0, 1), e.g. 1e-8", v));
+    if (!(v >= kMinAbsoluteTolerance && v < 1.0))
+      r.fail(*n, fmt::format("'solver.atol' = {} must lie in [{:g}, 1), e.g. 1e-8 (below {:g} IDA's weighted "
+                             "norms overflow)",
+                             v, kMinAbsoluteTolerance, kMinAbsoluteTolerance));
     sol.atol = v;
   }
   if (const toml::node* n = s->get("max_steps")) {
@@ -781,6 +838,10 @@ void read_solver(const Reader& r, const toml::table& root, Scene& scene) {
 Scene read_scene(const Reader& r, const toml::table& root) {
   Scene scene;
   scene.source = r.file();
+  if (root.empty())
+    r.fail(root.source(), "the scene is empty (nothing but whitespace or comments); a scene needs "
+                          "schema_version = 1 and the tables [body], [initial] and [time] (see "
+                          "docs/scene_format.md and problems/*.toml)");
 
   // The version first: a file of another version should fail on that, not on
   // the keys it renamed.
@@ -798,6 +859,14 @@ Scene read_scene(const Reader& r, const toml::table& root) {
   if (const toml::node* n = root.get("name")) {
     scene.name = r.string(*n, "name");
     if (scene.name.empty()) r.fail(*n, "'name' must not be empty (leave it out to use the file name)");
+    // The name names the default output folder out/NAME-...: no paths, no hidden folders.
+    const bool control = std::any_of(scene.name.begin(), scene.name.end(),
+                                     [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
+    if (scene.name.size() > kMaxNameBytes || control || scene.name.front() == '.' ||
+        scene.name.find_first_of("/\\") != std::string::npos)
+      r.fail(*n, fmt::format("'name' = \"{}\" cannot name an output folder: give at most {} bytes of printable "
+                             "characters, without '/' or '\\' and not starting with '.' (e.g. \"heavy_top\")",
+                             printable(scene.name), kMaxNameBytes));
   }
   if (const toml::node* n = root.get("description")) scene.description = r.string(*n, "description");
 
@@ -812,6 +881,47 @@ Scene read_scene(const Reader& r, const toml::table& root) {
   return scene;
 }
 
+// The code point at a parser position (line and column counted in code
+// points, from 1), or -1 past the end of the text or at an invalid sequence.
+long code_point_at(std::string_view text, const toml::source_position& pos) {
+  std::size_t i = 0;
+  for (toml::source_index line = 1; line < pos.line; ++line) {
+    i = text.find('\n', i);
+    if (i == std::string_view::npos) return -1;
+    ++i;
+  }
+  for (toml::source_index col = 1; i < text.size(); ++col) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    const std::size_t len = c < 0x80 ? 1 : c >= 0xf0 ? 4 : c >= 0xe0 ? 3 : c >= 0xc0 ? 2 : 0;
+    if (len == 0 || i + len > text.size()) return -1;
+    if (col == pos.column) {
+      long cp = len == 1 ? c : c & (0xff >> (len + 1));
+      for (std::size_t k = 1; k < len; ++k) cp = (cp << 6) | (static_cast<unsigned char>(text[i + k]) & 0x3f);
+      return cp;
+    }
+    if (c == '\n') return -1;
+    i += len;
+  }
+  return -1;
+}
+
+// toml++'s description of a syntax error, with what it usually means added
+// where its words alone mislead.
+std::string explain_parse_error(std::string_view text, const toml::parse_error& e) {
+  std::string msg = fmt::format("invalid TOML: {}", e.description());
+  const long cp = code_point_at(text, e.source().begin);
+  if (e.description().find("utf-8") != std::string_view::npos)
+    msg += " (the file is not UTF-8 text: a binary file, or text saved in another encoding such as Latin-1)";
+  else if (e.description().find("control characters") != std::string_view::npos && (cp == '\n' || cp == '\r' || cp < 0))
+    msg += " (the string is not closed before the end of the line; a \"...\" string ends on its own line, "
+           "use \"\"\"...\"\"\" for several lines)";
+  else if (cp >= 0x80)
+    msg += fmt::format(" (the character there is U+{:04X}, not ASCII: keys without quotes, numbers, '=' and "
+                       "the spaces between them must be ASCII; look for a look-alike letter, digit or space)",
+                       cp);
+  return msg;
+}
+
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& source_name) {
@@ -820,7 +930,7 @@ Scene parse_scene(const std::string& text, const std::string& source_name) {
   try {
     root = toml::parse(std::string_view(text), std::string_view(source_name));
   } catch (const toml::parse_error& e) {
-    reader.fail(e.source(), fmt::format("invalid TOML: {}", e.description()));
+    reader.fail(e.source(), explain_parse_error(text, e));
   }
   return read_scene(reader, root);
 }
@@ -835,11 +945,17 @@ Scene load_scene(const std::string& path) {
     throw InputError(fmt::format("{}: error: cannot open scene file '{}': {}", path, path,
                                  err ? std::strerror(err) : "unreadable"));
   }
-  std::ostringstream buf;
-  buf << in.rdbuf();
-  if (in.bad())
-    throw InputError(fmt::format("{}: error: cannot read scene file '{}'", path, path));
-  return parse_scene(buf.str(), path);
+  // Read at most one byte more than a scene may have: a huge file or a
+  // device such as /dev/zero is refused without reading it all.
+  std::string text(kMaxSceneBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  if (in.bad()) throw InputError(fmt::format("{}: error: cannot read scene file '{}'", path, path));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxSceneBytes)
+    throw InputError(fmt::format("{}: error: scene file '{}' is larger than {} bytes; a scene is a short TOML "
+                                 "file (see problems/*.toml)",
+                                 path, path, kMaxSceneBytes));
+  return parse_scene(text, path);
 }
 
 }  // namespace rigidae::io
