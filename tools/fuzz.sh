@@ -9,6 +9,7 @@
 #   e.g.      bash tools/fuzz.sh 600 -jobs=2 -workers=2
 # The growing corpus is kept in build-fuzz/corpus (reused by the next run);
 # inputs that crash, hang or trip a sanitizer land in build-fuzz/findings/.
+# RIGIDAE_FUZZ_BUILD=DIR builds and keeps both in DIR instead of build-fuzz.
 # Each finding, once fixed, belongs in tests/fuzz_regressions/ (see
 # docs/robustness.md): the test suite loads every file there.
 set -euo pipefail
@@ -21,12 +22,13 @@ packages=(clang libclang-rt-14-dev cmake ninja-build pkg-config
           libtomlplusplus-dev nlohmann-json3-dev)
 bash tools/install_missing.sh fuzz "${packages[@]}"
 
-CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRIGIDAE_FUZZ=ON >/dev/null
-cmake --build build-fuzz --target fuzz_scene_loader -j"$(nproc)"
+build=${RIGIDAE_FUZZ_BUILD:-build-fuzz}
+CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRIGIDAE_FUZZ=ON >/dev/null
+cmake --build "$build" --target fuzz_scene_loader -j"$(nproc)"
 
-mkdir -p build-fuzz/corpus build-fuzz/findings
+mkdir -p "$build/corpus" "$build/findings"
 seeds=(problems tests/bad_scenes)
 [ -d tests/fuzz_regressions ] && seeds+=(tests/fuzz_regressions)
-exec ./build-fuzz/fuzz_scene_loader build-fuzz/corpus "${seeds[@]}" \
+exec "$build/fuzz_scene_loader" "$build/corpus" "${seeds[@]}" \
   -dict=fuzz/scene.dict -max_total_time="$seconds" -max_len=8192 -timeout=10 -rss_limit_mb=2048 \
-  -artifact_prefix=build-fuzz/findings/ -print_final_stats=1 "$@"
+  -artifact_prefix="$build/findings/" -print_final_stats=1 "$@"

@@ -25,15 +25,29 @@ std::string to_string(RunStatus s) {
   return "?";
 }
 
-std::vector<double> output_grid(const TimeGrid& grid) {
-  std::vector<double> ts;
+namespace {
+
+// The grid is start + k step for k < points_before_end(), then end. The
+// points are computed as needed: a long run's grid (up to 1e8 points) is
+// never held in memory.
+long points_before_end(const TimeGrid& grid) {
   const double span = grid.end - grid.start;
-  const long n = static_cast<long>(std::floor(span / grid.output_step * (1 + 1e-12)));
-  for (long k = 0; k <= n; ++k) {
-    const double t = grid.start + static_cast<double>(k) * grid.output_step;
-    if (t < grid.end - 1e-9 * grid.output_step) ts.push_back(t);
-  }
-  ts.push_back(grid.end);
+  long m = static_cast<long>(std::floor(span / grid.output_step * (1 + 1e-12))) + 1;
+  while (m > 0 && grid.start + static_cast<double>(m - 1) * grid.output_step >= grid.end - 1e-9 * grid.output_step)
+    --m;
+  return m;
+}
+
+double grid_point(const TimeGrid& grid, long before_end, long k) {
+  return k < before_end ? grid.start + static_cast<double>(k) * grid.output_step : grid.end;
+}
+
+}  // namespace
+
+std::vector<double> output_grid(const TimeGrid& grid) {
+  const long before_end = points_before_end(grid);
+  std::vector<double> ts;
+  for (long k = 0; k <= before_end; ++k) ts.push_back(grid_point(grid, before_end, k));
   return ts;
 }
 
@@ -267,18 +281,19 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
   check(IDASetInitStep(ida.mem, h0), "IDASetInitStep");
   if (watch_charts) check(IDARootInit(ida.mem, 1, chart_root_callback), "IDARootInit");
 
-  const std::vector<double> grid = output_grid(span);
-  std::size_t next_out = 0;
+  const long grid_before_end = points_before_end(span);
+  long next_out = 0;
   sink.on_output(span.start, y);
   ++next_out;
 
   // Output-grid points up to t, interpolated from IDA's last step.
   Eigen::VectorXd yout(n);
   auto emit_grid_until = [&](double t) {
-    while (next_out < grid.size() && grid[next_out] <= t) {
-      if (IDAGetDky(ida.mem, grid[next_out], 0, ida.dky) < 0) break;
+    while (next_out <= grid_before_end && grid_point(span, grid_before_end, next_out) <= t) {
+      const double t_out = grid_point(span, grid_before_end, next_out);
+      if (IDAGetDky(ida.mem, t_out, 0, ida.dky) < 0) break;
       yout = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(ida.dky), n);
-      sink.on_output(grid[next_out], yout);
+      sink.on_output(t_out, yout);
       ++next_out;
     }
   };
