@@ -82,7 +82,7 @@ double parse_number(const std::string& opt, const std::string& text) {
 long parse_count(const std::string& opt, const std::string& text) {
   const double x = parse_number(opt, text);
   if (!(x >= 1 && x <= 1e15) || x != std::floor(x))
-    throw InputError(fmt::format("option {}: {} is not a positive integer", opt, text));
+    throw InputError(fmt::format("option {}: {} must be a whole number from 1 to 1e15", opt, text));
   return static_cast<long>(x);
 }
 
@@ -144,8 +144,9 @@ void apply_scene_option(Scene& scene, const std::string& opt, const std::string&
   } else if (opt == "--max-steps")
     scene.solver.max_steps = parse_count(opt, text);
   else if (opt == "--max-order") {
-    const long k = parse_count(opt, text);
-    if (k > 5) throw InputError(fmt::format("option --max-order: {} must lie in 1..5", text));
+    const double k = parse_number(opt, text);
+    if (!(k >= 1 && k <= 5) || k != std::floor(k))
+      throw InputError(fmt::format("option --max-order: {} must be a whole number from 1 to 5", text));
     scene.solver.max_order = static_cast<int>(k);
   } else if (opt == "--initial-step") {
     const double x = parse_number(opt, text);
@@ -192,6 +193,16 @@ Scene parse_command_line(const std::vector<std::string>& args, const std::string
     throw InputError(fmt::format("{0} needs a scene file: rigidae {0} SCENE.toml", command));
   Scene scene = io::load_scene(scene_path);
   for (const auto& [opt, text] : overrides) apply_scene_option(scene, opt, text);
+  // The grid as the options left it (--t-end keeps the scene's output step).
+  const TimeGrid& g = scene.time;
+  if (std::abs(g.end) > kMaxTimeMagnitude)
+    throw InputError(fmt::format("option --t-end: {} s is too large; times must lie within +-{:g} s", g.end,
+                                 kMaxTimeMagnitude));
+  if ((g.end - g.start) / g.output_step > kMaxOutputIntervals)
+    throw InputError(fmt::format("the output step {} s gives {:.3g} output intervals from {} s to {} s; at most {:g} "
+                                 "are allowed: give a larger --output-step",
+                                 g.output_step, (g.end - g.start) / g.output_step, g.start, g.end,
+                                 kMaxOutputIntervals));
   return scene;
 }
 

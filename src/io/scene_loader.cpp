@@ -90,10 +90,9 @@ constexpr double kMaxMass = 1e9;                 // kg
 constexpr double kMaxAngularVelocity = 1e6;      // rad/s
 constexpr double kMaxGravity = 1e4;              // m/s^2
 constexpr double kMaxCenterOfMass = 1e6;         // m
-constexpr double kMaxOutputIntervals = 1e8;      // (end - start) / output_step
 constexpr double kMaxBaumgarteGain = 1e8;        // 1/s
 constexpr double kMinRtol = kMinRelativeTolerance;  // see scene.hpp
-constexpr double kMaxTime = 1e9;                 // s, |time.start| and |time.end| (about 32 years)
+constexpr double kMaxTime = kMaxTimeMagnitude;   // s, |time.start| and |time.end|
 constexpr std::size_t kMaxNameBytes = 100;       // the name becomes part of the default output folder
 constexpr std::size_t kMaxSceneBytes = 1 << 20;  // a scene is a few hundred bytes; a bigger file is a mistake
 

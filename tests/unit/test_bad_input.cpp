@@ -140,3 +140,32 @@ TEST_CASE("bad input: a huge file, a device, a folder and a missing file are ref
   CHECK(r.output.find("No such file or directory") != std::string::npos);
   fs::remove_all(dir);
 }
+
+TEST_CASE("bad input: command-line overrides obey the scene file's limits") {
+  const std::string scene = (fs::path(RIGIDAE_SOURCE_DIR) / "problems" / "heavy_top.toml").string();
+  struct Case {
+    const char* options;
+    const char* message;
+  };
+  for (const Case& c : {Case{"--rtol 1e-15", "option --rtol: 1e-15 is below 1e-14"},
+                        Case{"--atol 1e-200", "option --atol: 1e-200 is below 1e-100"},
+                        Case{"--t-end 1e300", "option --t-end: 1e+300 s is too large"},
+                        Case{"--t-end 1e7", "output intervals"},  // the scene's 0.01 s grid: 1e9 points
+                        Case{"--t-end nan", "is not a finite number"},
+                        Case{"--max-steps 1e99", "must be a whole number from 1 to 1e15"},
+                        Case{"--max-order 0", "must be a whole number from 1 to 5"},
+                        Case{"--output-step -1", "must be > 0"}}) {
+    const auto r = run_cli("solve " + scene + " " + c.options);
+    CAPTURE(std::string(c.options));
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.rfind("rigidae: error: ", 0) == 0);
+    CHECK(r.output.find(c.message) != std::string::npos);
+  }
+  // Together they are fine: a longer run with a coarser grid.
+  const fs::path out = rigidae::test::fresh_temp_dir("long_grid");
+  const auto r = run_cli("solve " + scene + " --t-end 1e7 --output-step 1e6 --max-steps 10 --out " + out.string());
+  CHECK(r.exit_code == 1);  // too much work, by design: the grid was accepted
+  CHECK(r.output.find("too much work") != std::string::npos);
+  fs::remove_all(out);
+}

@@ -75,6 +75,11 @@ struct SolverSettings {
   std::string jacobian = "central";
 };
 
+// Limits of the time grid: |start|, |end| (about 32 years; beyond, t + h
+// loses the digits of small steps) and the number of output intervals.
+inline constexpr double kMaxTimeMagnitude = 1e9;  // s
+inline constexpr double kMaxOutputIntervals = 1e8;
+
 struct TimeGrid {
   double start = 0.0;          // s
   double end = 1.0;            // s, > start
