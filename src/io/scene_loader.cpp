@@ -253,8 +253,14 @@ class Reader {
     if (auto best = closest(word, allowed)) {
       msg += fmt::format("; did you mean '{}'?", *best);
     } else {
+      // Only a key of the same kind: a table [a] is not formulation.baumgarte's gain 'a'.
+      const bool value_is_table = tbl.get(word)->is_table();
+      const auto names_a_table = [&](std::string_view section) {
+        return std::any_of(kAllSections.begin(), kAllSections.end(),
+                           [&](const SectionKeys& s) { return s.name == join_key(section, word); });
+      };
       for (const auto& sec : kAllSections) {
-        if (sec.name == table) continue;
+        if (sec.name == table || names_a_table(sec.name) != value_is_table) continue;
         if (std::find(sec.keys.begin(), sec.keys.end(), word) != sec.keys.end()) {
           msg += fmt::format("; '{}' belongs in {}", word, table_label(sec.name));
           break;

@@ -169,3 +169,16 @@ TEST_CASE("bad input: command-line overrides obey the scene file's limits") {
   CHECK(r.output.find("too much work") != std::string::npos);
   fs::remove_all(out);
 }
+
+TEST_CASE("bad input: a scene path that is not UTF-8 still gives a valid summary.json") {
+  const fs::path dir = rigidae::test::fresh_temp_dir("latin1");
+  const fs::path scene = dir / "k\xf6rper.toml";  // "koerper" in Latin-1, not UTF-8
+  fs::copy_file(fs::path(RIGIDAE_SOURCE_DIR) / "problems" / "free_body.toml", scene);
+  const auto r = run_cli("solve '" + scene.string() + "' --t-end 0.1 --quiet --out '" + (dir / "out").string() + "'");
+  CAPTURE(r.output);
+  CHECK(r.exit_code == 0);
+  const std::string summary = rigidae::test::read_file(dir / "out" / "summary.json");
+  CHECK(summary.find("\"status\": \"success\"") != std::string::npos);
+  CHECK(summary.find("k\xef\xbf\xbdrper.toml") != std::string::npos);  // the byte replaced by U+FFFD
+  fs::remove_all(dir);
+}
