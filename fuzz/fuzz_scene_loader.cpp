@@ -1,11 +1,13 @@
 // libFuzzer target: the scene loader and validator on arbitrary bytes.
 //
 // Every input must end in one of two ways: an InputError (bad input, the
-// CLI's exit 2), or a Scene that is physically valid -- a proper rotation,
-// a positive mass, a positive definite inertia, a time span, and a DAE that
-// assembles and starts with finite numbers. Anything else (a crash, a
-// sanitizer report, another exception, a valid-looking scene that is not)
-// is a finding. Build and run: tools/fuzz.sh (docs/robustness.md).
+// CLI's exit 2) whose message is one line "fuzz.toml:LINE:COL: error: ..."
+// of printable text and reasonable length, or a Scene that is physically
+// valid -- a proper rotation, a positive mass, a positive definite inertia,
+// a time span, and a DAE that assembles and starts with finite numbers.
+// Anything else (a crash, a sanitizer report, another exception, a
+// malformed message, a valid-looking scene that is not) is a finding.
+// Build and run: tools/fuzz.sh (docs/robustness.md).
 #include <Eigen/Eigenvalues>
 
 #include <cmath>
@@ -25,12 +27,28 @@ using namespace rigidae;
 
 void require(bool ok, const char* what) {
   if (ok) return;
-  std::fprintf(stderr, "fuzz_scene_loader: the loader accepted a scene with %s\n", what);
+  std::fprintf(stderr, "fuzz_scene_loader: finding: %s\n", what);
   std::abort();
 }
 
+// The form the CLI and the docs promise for every scene-file error.
+void check_message(const std::string& m) {
+  std::size_t i = std::string("fuzz.toml:").size();
+  require(m.compare(0, i, "fuzz.toml:") == 0, "an error message without the file name");
+  for (int field = 0; field < 2; ++field) {
+    const std::size_t digits = i;
+    while (i < m.size() && m[i] >= '0' && m[i] <= '9') ++i;
+    require(i > digits && i < m.size() && m[i] == ':' && m[digits] != '0', "an error message without LINE:COL");
+    ++i;
+  }
+  require(m.compare(i, 8, " error: ") == 0, "an error message without ' error: '");
+  require(m.size() < 2000, "an error message over 2000 bytes");
+  for (char c : m)
+    require(static_cast<unsigned char>(c) >= 0x20 && c != 0x7f, "a control character in an error message");
+}
+
 void check_valid(const Scene& s) {
-  require(s.body.mass > 0 && std::isfinite(s.body.mass), "a bad mass");
+  require(s.body.mass > 0 && std::isfinite(s.body.mass), "a scene with a bad mass");
   require(s.body.inertia_com.allFinite() && s.body.inertia_com.isApprox(s.body.inertia_com.transpose()),
           "a non-symmetric inertia");
   require(Eigen::SelfAdjointEigenSolver<Mat3>(s.body.inertia_com).eigenvalues().minCoeff() > 0,
@@ -72,7 +90,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   Scene scene;
   try {
     scene = io::parse_scene(text, "fuzz.toml");
-  } catch (const InputError&) {
+  } catch (const InputError& e) {
+    check_message(e.what());
     return 0;
   }
   check_valid(scene);

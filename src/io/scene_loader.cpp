@@ -913,7 +913,8 @@ long code_point_at(std::string_view text, const toml::source_position& pos) {
 // toml++'s description of a syntax error, with what it usually means added
 // where its words alone mislead.
 std::string explain_parse_error(std::string_view text, const toml::parse_error& e) {
-  std::string msg = fmt::format("invalid TOML: {}", e.description());
+  // The parser's words may quote the input raw (a newline, an escape byte): escaped, one line.
+  std::string msg = fmt::format("invalid TOML: {}", printable(e.description(), 1000));
   const long cp = code_point_at(text, e.source().begin);
   if (e.description().find("utf-8") != std::string_view::npos)
     msg += " (the file is not UTF-8 text: a binary file, or text saved in another encoding such as Latin-1)";
