@@ -8,6 +8,7 @@
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <exception>
 
 #include "rigidae/core/error.hpp"
@@ -125,8 +126,17 @@ int chart_root_callback(realtype /*t*/, N_Vector yy, N_Vector /*yp*/, realtype* 
   return 0;
 }
 
+// IDA's name for a return flag. IDAGetReturnFlagName mallocs the string and
+// leaves freeing it to the caller (found by LeakSanitizer, tools/sanitize.sh).
+std::string flag_name(int flag) {
+  char* name = IDAGetReturnFlagName(flag);
+  std::string s = name ? name : fmt::format("flag {}", flag);
+  std::free(name);
+  return s;
+}
+
 void check(int flag, const char* what) {
-  if (flag < 0) throw SolverError(fmt::format("{} failed: {}", what, IDAGetReturnFlagName(flag)));
+  if (flag < 0) throw SolverError(fmt::format("{} failed: {}", what, flag_name(flag)));
 }
 
 void add_counters(void* mem, IdaCounters& c) {
@@ -352,7 +362,7 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
       IDAGetCurrentTime(ida.mem, &tcur);
       result.status = RunStatus::Failed;
       result.message = fmt::format("IDA failed with {} at t = {:.9g} s, step size {:.3g} s: {}",
-                                   IDAGetReturnFlagName(flag), tcur, h, explain_failure(flag));
+                                   flag_name(flag), tcur, h, explain_failure(flag));
       t = tcur;
       break;
     }
