@@ -119,7 +119,8 @@ void write_summary(const std::filesystem::path& path, const Scene& scene, const 
   };
   std::ofstream out(path);
   if (!out) throw InputError(fmt::format("{}: cannot open for writing", path.string()));
-  out << j.dump(2) << '\n';
+  // A path from the command line need not be UTF-8; JSON must be: invalid bytes become U+FFFD.
+  out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
 }
 
 }  // namespace

@@ -43,7 +43,15 @@ void print_help() {
   fmt::print("\nScene overrides (solve and compare):\n{}\n{}\n{}{}", cli::kSceneOptionsHelp, cli::kCompareHelp, cli::kStudyHelp, kTrailer);
 }
 
-void on_signal(int) { g_interrupt_requested.store(true); }
+// The first Ctrl-C (or TERM) asks the run to stop after the current step and
+// keep its outputs; a second one, if the run is stuck inside a step, ends the
+// process at once the default way (the CSV files may then end mid-row).
+void on_signal(int sig) {
+  if (g_interrupt_requested.exchange(true)) {
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+  }
+}
 
 int run(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);

@@ -40,8 +40,8 @@ double parse_in_open_unit(const std::string& opt, const std::string& text) {
 
 }  // namespace
 
-const char* kSceneOptionsHelp = R"(  --rtol X                relative tolerance, 0 < X < 1
-  --atol X                absolute tolerance, 0 < X < 1
+const char* kSceneOptionsHelp = R"(  --rtol X                relative tolerance, 1e-14 <= X < 1
+  --atol X                absolute tolerance, 1e-100 <= X < 1
   --t-end T               end time in s (> the scene's start time)
   --output-step X         output grid spacing in s
   --max-steps N           limit on internal IDA steps
@@ -85,7 +85,7 @@ double parse_number(const std::string& opt, const std::string& text) {
 long parse_count(const std::string& opt, const std::string& text) {
   const double x = parse_number(opt, text);
   if (!(x >= 1 && x <= 1e15) || x != std::floor(x))
-    throw InputError(fmt::format("option {}: {} is not a positive integer", opt, text));
+    throw InputError(fmt::format("option {}: {} must be a whole number from 1 to 1e15", opt, text));
   return static_cast<long>(x);
 }
 
@@ -108,11 +108,18 @@ void apply_scene_option(Scene& scene, const std::string& opt, const std::string&
     if (std::find(names.begin(), names.end(), text) == names.end())
       throw InputError(fmt::format("option --scheme: unknown value '{}'; valid values: {}", text, valid_list(names)));
     form.scheme = text;
-  } else if (opt == "--rtol")
+  } else if (opt == "--rtol") {
     scene.solver.rtol = parse_in_open_unit(opt, text);
-  else if (opt == "--atol")
+    if (scene.solver.rtol < kMinRelativeTolerance)
+      throw InputError(fmt::format("option --rtol: {} is below {:g}, where round-off in double precision exceeds "
+                                   "the tolerance and the step size collapses",
+                                   text, kMinRelativeTolerance));
+  } else if (opt == "--atol") {
     scene.solver.atol = parse_in_open_unit(opt, text);
-  else if (opt == "--switch-threshold")
+    if (scene.solver.atol < kMinAbsoluteTolerance)
+      throw InputError(fmt::format("option --atol: {} is below {:g}, where IDA's weighted norms overflow", text,
+                                   kMinAbsoluteTolerance));
+  } else if (opt == "--switch-threshold")
     form.euler.switch_threshold = parse_in_open_unit(opt, text);
   else if (opt == "--projection-threshold")
     form.projection.threshold = parse_in_open_unit(opt, text);
@@ -140,8 +147,9 @@ void apply_scene_option(Scene& scene, const std::string& opt, const std::string&
   } else if (opt == "--max-steps")
     scene.solver.max_steps = parse_count(opt, text);
   else if (opt == "--max-order") {
-    const long k = parse_count(opt, text);
-    if (k > 5) throw InputError(fmt::format("option --max-order: {} must lie in 1..5", text));
+    const double k = parse_number(opt, text);
+    if (!(k >= 1 && k <= 5) || k != std::floor(k))
+      throw InputError(fmt::format("option --max-order: {} must be a whole number from 1 to 5", text));
     scene.solver.max_order = static_cast<int>(k);
   } else if (opt == "--initial-step") {
     const double x = parse_number(opt, text);
@@ -191,6 +199,16 @@ Scene parse_command_line(const std::vector<std::string>& args, const std::string
     throw InputError(fmt::format("{0} needs a scene file: rigidae {0} SCENE.toml", command));
   Scene scene = io::load_scene(scene_path);
   for (const auto& [opt, text] : overrides) apply_scene_option(scene, opt, text);
+  // The grid as the options left it (--t-end keeps the scene's output step).
+  const TimeGrid& g = scene.time;
+  if (std::abs(g.end) > kMaxTimeMagnitude)
+    throw InputError(fmt::format("option --t-end: {} s is too large; times must lie within +-{:g} s", g.end,
+                                 kMaxTimeMagnitude));
+  if ((g.end - g.start) / g.output_step > kMaxOutputIntervals)
+    throw InputError(fmt::format("the output step {} s gives {:.3g} output intervals from {} s to {} s; at most {:g} "
+                                 "are allowed: give a larger --output-step",
+                                 g.output_step, (g.end - g.start) / g.output_step, g.start, g.end,
+                                 kMaxOutputIntervals));
   return scene;
 }
 

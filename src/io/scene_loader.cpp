@@ -20,7 +20,6 @@
 #include <iostream>
 #include <optional>
 #include <span>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -89,8 +88,11 @@ constexpr double kMaxMass = 1e9;                 // kg
 constexpr double kMaxAngularVelocity = 1e6;      // rad/s
 constexpr double kMaxGravity = 1e4;              // m/s^2
 constexpr double kMaxCenterOfMass = 1e6;         // m
-constexpr double kMaxOutputIntervals = 1e8;      // (end - start) / output_step
 constexpr double kMaxBaumgarteGain = 1e8;        // 1/s
+constexpr double kMinRtol = kMinRelativeTolerance;  // see scene.hpp
+constexpr double kMaxTime = kMaxTimeMagnitude;   // s, |time.start| and |time.end|
+constexpr std::size_t kMaxNameBytes = 100;       // the name becomes part of the default output folder
+constexpr std::size_t kMaxSceneBytes = 1 << 20;  // a scene is a few hundred bytes; a bigger file is a mistake
 
 constexpr double kInertiaSymmetryTol = 1e-12;    // relative
 constexpr double kTriangleTol = 1e-12;           // relative to the trace
@@ -99,6 +101,8 @@ constexpr double kUnitTolSilent = 1e-12;         // below: fixed without a warni
 
 
 std::string fmt_vec(const Vec3& v) { return fmt::format("({}, {}, {})", v[0], v[1], v[2]); }
+// Computed values (not the user's digits): round-off shown as such would only distract.
+std::string fmt_vec6(const Vec3& v) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", v[0], v[1], v[2]); }
 
 // ---------------------------------------------------------------------------
 // Sections
@@ -164,7 +168,7 @@ InertiaSource read_body(const TomlReader& r, const toml::table& root, Scene& sce
     if (!(moments.minCoeff() > 0.0))
       r.fail(*full, fmt::format("'body.inertia' must be positive definite; its principal moments "
                                 "(eigenvalues) are {}",
-                                fmt_vec(moments)));
+                                fmt_vec6(moments)));
     scene.body.inertia_com = I;
   }
   if (const toml::node* c = body.get("center_of_mass")) {
@@ -262,10 +266,14 @@ bool read_convention(const TomlReader& r, const toml::table& tbl, std::string_vi
 so3::EulerSequence read_sequence(const TomlReader& r, const toml::node& n, std::string_view name,
                                  bool extrinsic, Vec3* angles) {
   const std::string letters = r.string(n, name);
+  if (letters.size() != 3)
+    r.fail(n, fmt::format("'{}' = \"{}\" is not an Euler sequence: give three axis letters from x, y, z with "
+                          "consecutive letters distinct, e.g. \"zxz\" or \"zyx\"",
+                          name, printable(letters)));
   try {
     return so3::parse_euler_sequence(letters, extrinsic, angles);
   } catch (const std::invalid_argument& e) {
-    r.fail(n, fmt::format("'{}' = \"{}\": {}", name, letters, e.what()));
+    r.fail(n, fmt::format("'{}' = \"{}\": {}", name, printable(letters), printable(e.what(), 1000)));
   }
 }
 
@@ -387,9 +395,17 @@ void read_time(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table& t = r.required_table(root, "", "time");
   r.check_keys(t, "time", kTimeKeys, kAllSections);
   double start = 0.0;
-  if (const toml::node* s = t.get("start")) start = r.number(*s, "time.start");
+  const auto check_magnitude = [&](const toml::node& n, std::string_view name, double x) {
+    if (std::abs(x) > kMaxTime)
+      r.fail(n, fmt::format("'{}' = {} s is too large; times must lie within +-{:g} s", name, x, kMaxTime));
+  };
+  if (const toml::node* s = t.get("start")) {
+    start = r.number(*s, "time.start");
+    check_magnitude(*s, "time.start", start);
+  }
   const toml::node& end_node = r.required(t, "time", "end", "s, > start");
   const double end = r.number(end_node, "time.end");
+  check_magnitude(end_node, "time.end", end);
   if (!(end > start))
     r.fail(end_node, fmt::format("'time.end' = {} must be greater than 'time.start' = {}", end, start));
   const double span = end - start;
@@ -500,12 +516,18 @@ void read_solver(const TomlReader& r, const toml::table& root, Scene& scene) {
   SolverSettings& sol = scene.solver;
   if (const toml::node* n = s->get("rtol")) {
     const double v = r.number(*n, "solver.rtol");
-    if (!(v > 0.0 && v < 1.0)) r.fail(*n, fmt::format("'solver.rtol' = {} must lie in (0, 1), e.g. 1e-8", v));
+    if (!(v >= kMinRtol && v < 1.0))
+      r.fail(*n, fmt::format("'solver.rtol' = {} must lie in [{:g}, 1), e.g. 1e-8 (below {:g} round-off in "
+                             "double precision exceeds the tolerance and the step size collapses)",
+                             v, kMinRtol, kMinRtol));
     sol.rtol = v;
   }
   if (const toml::node* n = s->get("atol")) {
     const double v = r.number(*n, "solver.atol");
-    if (!(v > 0.0 && v < 1.0)) r.fail(*n, fmt::format("'solver.atol' = {} must lie in (0, 1), e.g. 1e-8", v));
+    if (!(v >= kMinAbsoluteTolerance && v < 1.0))
+      r.fail(*n, fmt::format("'solver.atol' = {} must lie in [{:g}, 1), e.g. 1e-8 (below {:g} IDA's weighted "
+                             "norms overflow)",
+                             v, kMinAbsoluteTolerance, kMinAbsoluteTolerance));
     sol.atol = v;
   }
   if (const toml::node* n = s->get("max_steps")) {
@@ -559,6 +581,10 @@ void read_reference_kind(const TomlReader& r, const toml::table& root, Scene& sc
 Scene read_scene(const TomlReader& r, const toml::table& root) {
   Scene scene;
   scene.source = r.file();
+  if (root.empty())
+    r.fail(root.source(), "the scene is empty (nothing but whitespace or comments); a scene needs "
+                          "schema_version = 1 and the tables [body], [initial] and [time] (see "
+                          "docs/scene_format.md and problems/*.toml)");
 
   // The version first: a file of another version should fail on that, not on
   // the keys it renamed.
@@ -576,6 +602,14 @@ Scene read_scene(const TomlReader& r, const toml::table& root) {
   if (const toml::node* n = root.get("name")) {
     scene.name = r.string(*n, "name");
     if (scene.name.empty()) r.fail(*n, "'name' must not be empty (leave it out to use the file name)");
+    // The name names the default output folder out/NAME-...: no paths, no hidden folders.
+    const bool control = std::any_of(scene.name.begin(), scene.name.end(),
+                                     [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
+    if (scene.name.size() > kMaxNameBytes || control || scene.name.front() == '.' ||
+        scene.name.find_first_of("/\\") != std::string::npos)
+      r.fail(*n, fmt::format("'name' = \"{}\" cannot name an output folder: give at most {} bytes of printable "
+                             "characters, without '/' or '\\' and not starting with '.' (e.g. \"heavy_top\")",
+                             printable(scene.name), kMaxNameBytes));
   }
   if (const toml::node* n = root.get("description")) scene.description = r.string(*n, "description");
 
@@ -591,6 +625,48 @@ Scene read_scene(const TomlReader& r, const toml::table& root) {
   return scene;
 }
 
+// The code point at a parser position (line and column counted in code
+// points, from 1), or -1 past the end of the text or at an invalid sequence.
+long code_point_at(std::string_view text, const toml::source_position& pos) {
+  std::size_t i = 0;
+  for (toml::source_index line = 1; line < pos.line; ++line) {
+    i = text.find('\n', i);
+    if (i == std::string_view::npos) return -1;
+    ++i;
+  }
+  for (toml::source_index col = 1; i < text.size(); ++col) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    const std::size_t len = c < 0x80 ? 1 : c >= 0xf0 ? 4 : c >= 0xe0 ? 3 : c >= 0xc0 ? 2 : 0;
+    if (len == 0 || i + len > text.size()) return -1;
+    if (col == pos.column) {
+      long cp = len == 1 ? c : c & (0xff >> (len + 1));
+      for (std::size_t k = 1; k < len; ++k) cp = (cp << 6) | (static_cast<unsigned char>(text[i + k]) & 0x3f);
+      return cp;
+    }
+    if (c == '\n') return -1;
+    i += len;
+  }
+  return -1;
+}
+
+// toml++'s description of a syntax error, with what it usually means added
+// where its words alone mislead.
+std::string explain_parse_error(std::string_view text, const toml::parse_error& e) {
+  // The parser's words may quote the input raw (a newline, an escape byte): escaped, one line.
+  std::string msg = fmt::format("invalid TOML: {}", printable(e.description(), 1000));
+  const long cp = code_point_at(text, e.source().begin);
+  if (e.description().find("utf-8") != std::string_view::npos)
+    msg += " (the file is not UTF-8 text: a binary file, or text saved in another encoding such as Latin-1)";
+  else if (e.description().find("control characters") != std::string_view::npos && (cp == '\n' || cp == '\r' || cp < 0))
+    msg += " (the string is not closed before the end of the line; a \"...\" string ends on its own line, "
+           "use \"\"\"...\"\"\" for several lines)";
+  else if (cp >= 0x80)
+    msg += fmt::format(" (the character there is U+{:04X}, not ASCII: keys without quotes, numbers, '=' and "
+                       "the spaces between them must be ASCII; look for a look-alike letter, digit or space)",
+                       cp);
+  return msg;
+}
+
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& source_name) {
@@ -599,7 +675,7 @@ Scene parse_scene(const std::string& text, const std::string& source_name) {
   try {
     root = toml::parse(std::string_view(text), std::string_view(source_name));
   } catch (const toml::parse_error& e) {
-    reader.fail(e.source(), fmt::format("invalid TOML: {}", e.description()));
+    reader.fail(e.source(), explain_parse_error(text, e));
   }
   return read_scene(reader, root);
 }
@@ -614,11 +690,17 @@ Scene load_scene(const std::string& path) {
     throw InputError(fmt::format("{}: error: cannot open scene file '{}': {}", path, path,
                                  err ? std::strerror(err) : "unreadable"));
   }
-  std::ostringstream buf;
-  buf << in.rdbuf();
-  if (in.bad())
-    throw InputError(fmt::format("{}: error: cannot read scene file '{}'", path, path));
-  return parse_scene(buf.str(), path);
+  // Read at most one byte more than a scene may have: a huge file or a
+  // device such as /dev/zero is refused without reading it all.
+  std::string text(kMaxSceneBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  if (in.bad()) throw InputError(fmt::format("{}: error: cannot read scene file '{}'", path, path));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxSceneBytes)
+    throw InputError(fmt::format("{}: error: scene file '{}' is larger than {} bytes; a scene is a short TOML "
+                                 "file (see problems/*.toml)",
+                                 path, path, kMaxSceneBytes));
+  return parse_scene(text, path);
 }
 
 }  // namespace rigidae::io

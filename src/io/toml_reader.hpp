@@ -34,9 +34,12 @@ struct SectionKeys {
 inline char lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
 
 // Optimal-string-alignment distance (insertions, deletions, substitutions and
-// adjacent transpositions), case-insensitive.
+// adjacent transpositions), case-insensitive. Words whose lengths differ by
+// more than 2 are never suggestions, so they are not compared: a hostile
+// megabyte-long key would otherwise cost a table of n x m entries.
 inline std::size_t edit_distance(std::string_view a, std::string_view b) {
   const std::size_t n = a.size(), m = b.size();
+  if ((n > m ? n - m : m - n) > 2) return 3;
   std::vector<std::vector<std::size_t>> d(n + 1, std::vector<std::size_t>(m + 1));
   for (std::size_t i = 0; i <= n; ++i) d[i][0] = i;
   for (std::size_t j = 0; j <= m; ++j) d[0][j] = j;
@@ -49,6 +52,37 @@ inline std::size_t edit_distance(std::string_view a, std::string_view b) {
     }
   }
   return d[n][m];
+}
+
+// User text as it may be echoed in a message: control characters (C0, DEL,
+// C1 and the bidirectional overrides) written as escapes, so that a key or
+// value cannot drive the terminal, and anything past `max_bytes` cut at a
+// character boundary with its full length stated.
+inline std::string printable(std::string_view s, std::size_t max_bytes = 60) {
+  std::string out;
+  std::size_t i = 0;
+  for (; i < s.size() && out.size() < max_bytes; ++i) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (c < 0x20 || c == 0x7f) {
+      out += fmt::format("\\x{:02x}", c);
+    } else if (c == 0xc2 && i + 1 < s.size() && static_cast<unsigned char>(s[i + 1]) < 0xa0) {
+      out += fmt::format("\\u{:04x}", static_cast<unsigned char>(s[++i]));  // C1: U+0080..U+009F
+    } else if (c == 0xe2 && i + 2 < s.size() && static_cast<unsigned char>(s[i + 1]) == 0x80 &&
+               static_cast<unsigned char>(s[i + 2]) >= 0xaa && static_cast<unsigned char>(s[i + 2]) <= 0xae) {
+      out += fmt::format("\\u{:04x}", 0x2000 + (static_cast<unsigned char>(s[i + 2]) - 0x80));  // U+202A..E
+      i += 2;
+    } else if (c == 0xe2 && i + 2 < s.size() && static_cast<unsigned char>(s[i + 1]) == 0x81 &&
+               static_cast<unsigned char>(s[i + 2]) >= 0xa6 && static_cast<unsigned char>(s[i + 2]) <= 0xa9) {
+      out += fmt::format("\\u{:04x}", 0x2040 + (static_cast<unsigned char>(s[i + 2]) - 0x80));  // U+2066..9
+      i += 2;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  // Finish a multi-byte character that the length limit cut.
+  while (i < s.size() && (static_cast<unsigned char>(s[i]) & 0xc0) == 0x80) out += s[i++];
+  if (i < s.size()) out += fmt::format("... ({} bytes)", s.size());
+  return out;
 }
 
 // The closest option within edit distance 2, if any.
@@ -142,12 +176,18 @@ class TomlReader {
     }
     if (!first) return;
     const std::string_view word = first->str();
-    std::string msg = fmt::format("unknown key '{}' in {}", word, table_label(table));
+    std::string msg = fmt::format("unknown key '{}' in {}", printable(word), table_label(table));
     if (auto best = closest(word, allowed)) {
       msg += fmt::format("; did you mean '{}'?", *best);
     } else {
+      // Only a key of the same kind: a table [a] is not formulation.baumgarte's gain 'a'.
+      const bool value_is_table = tbl.get(word)->is_table();
+      const auto names_a_table = [&](std::string_view section) {
+        return std::any_of(schema.begin(), schema.end(),
+                           [&](const SectionKeys& s) { return s.name == join_key(section, word); });
+      };
       for (const auto& sec : schema) {
-        if (sec.name == table) continue;
+        if (sec.name == table || names_a_table(sec.name) != value_is_table) continue;
         if (std::find(sec.keys.begin(), sec.keys.end(), word) != sec.keys.end()) {
           msg += fmt::format("; '{}' belongs in {}", word, table_label(sec.name));
           break;
@@ -228,7 +268,7 @@ class TomlReader {
     const std::string s = string(n, name);
     for (std::size_t i = 0; i < options.size(); ++i)
       if (options[i] == s) return i;
-    std::string msg = fmt::format("'{}' = \"{}\" is not valid", name, s);
+    std::string msg = fmt::format("'{}' = \"{}\" is not valid", name, printable(s));
     if (auto best = closest(s, options)) msg += fmt::format("; did you mean \"{}\"?", *best);
     msg += fmt::format(" (valid: {})", quoted_list(options));
     fail(n, msg);

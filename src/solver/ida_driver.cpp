@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <exception>
 
 #include "rigidae/core/error.hpp"
@@ -161,8 +162,17 @@ int chart_root_callback(realtype /*t*/, N_Vector yy, N_Vector /*yp*/, realtype* 
   return 0;
 }
 
+// IDA's name for a return flag. IDAGetReturnFlagName mallocs the string and
+// leaves freeing it to the caller (found by LeakSanitizer, tools/sanitize.sh).
+std::string flag_name(int flag) {
+  char* name = IDAGetReturnFlagName(flag);
+  std::string s = name ? name : fmt::format("flag {}", flag);
+  std::free(name);
+  return s;
+}
+
 void check(int flag, const char* what) {
-  if (flag < 0) throw SolverError(fmt::format("{} failed: {}", what, IDAGetReturnFlagName(flag)));
+  if (flag < 0) throw SolverError(fmt::format("{} failed: {}", what, flag_name(flag)));
 }
 
 void add_counters(void* mem, IdaCounters& c) {
@@ -194,6 +204,16 @@ std::string explain_failure(int flag) {
     case IDA_RES_FAIL: return "the residual reported an unrecoverable error";
     case IDA_REP_RES_ERR: return "the residual kept returning non-finite values";
     case IDA_CONSTR_FAIL: return "an inequality constraint could not be met";
+    case IDA_ILL_INPUT:
+      return "IDA rejected an input it cannot use (weighted norms overflow with an extremely small atol)";
+    case IDA_BAD_EWT: return "an error weight became zero or negative (rtol |y| + atol = 0 for some unknown)";
+    case IDA_FIRST_RES_FAIL: return "the residual failed at the first call (an impossible start)";
+    case IDA_NO_RECOVERY: return "the residual failed recoverably and IDA could not recover";
+    case IDA_LINIT_FAIL: return "the linear solver could not be initialised";
+    case IDA_NLS_INIT_FAIL:
+    case IDA_NLS_SETUP_FAIL:
+    case IDA_NLS_FAIL: return "the nonlinear solver failed unrecoverably";
+    case IDA_MEM_FAIL: return "out of memory";
     default: return "IDA stopped";
   }
 }
@@ -336,9 +356,10 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
   Eigen::VectorXd yout(n);
   auto emit_grid_until = [&](double t) {
     while (next_out < grid.size() && grid[next_out] <= t) {
-      if (IDAGetDky(ida.mem, grid[next_out], 0, ida.dky) < 0) break;
+      const double t_out = grid[next_out];
+      if (IDAGetDky(ida.mem, t_out, 0, ida.dky) < 0) break;
       yout = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(ida.dky), n);
-      sink.on_output(grid[next_out], yout);
+      sink.on_output(t_out, yout);
       ++next_out;
     }
   };
@@ -360,16 +381,33 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
     ++before_restart.restarts;
   };
 
+  // The size of the last step taken (0 before the first).
+  auto last_step = [&] {
+    double h = 0.0;
+    IDAGetLastStep(ida.mem, &h);
+    return h;
+  };
+
   while (t < span.end) {
     if (g_interrupt_requested.load()) {
       result.status = RunStatus::Interrupted;
-      result.message = fmt::format("interrupted at t = {:.9g} s", t);
+      result.message = fmt::format("interrupted by a signal (Ctrl-C or SIGTERM) at t = {:.9g} s, last step size "
+                                   "{:.3g} s, after {} steps; the steps so far are kept",
+                                   t, last_step(), steps_total);
       break;
     }
     if (steps_total >= opt.max_steps) {
+      // IDA's own limit (IDA_TOO_MUCH_WORK) counts steps per call; one step per call, rigidae counts the run.
+      const double h = last_step();
       result.status = RunStatus::Failed;
-      result.message = fmt::format("too much work: max_steps = {} internal steps reached at t = {:.9g} s",
-                                   opt.max_steps, t);
+      result.message = fmt::format(
+          "too much work (IDA_TOO_MUCH_WORK): max_steps = {} internal steps taken and t = {:.9g} s of {:.9g} s "
+          "reached, last step size {:.3g} s; at that step size the rest would take about {:.3g} more steps. "
+          "Likely cause: {}",
+          opt.max_steps, t, span.end, h, h > 0 ? (span.end - t) / h : 0.0,
+          h > 0 && h < 1e-9 * (span.end - span.start)
+              ? "the step size has collapsed (a near-singularity, or tolerances too tight for this formulation)"
+              : "the run is longer or faster than max_steps allows (raise --max-steps or solver.max_steps)");
       break;
     }
     const int flag = IDASolve(ida.mem, span.end, &t, ida.y, ida.yp, IDA_ONE_STEP);
@@ -380,7 +418,7 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
       IDAGetCurrentTime(ida.mem, &tcur);
       result.status = RunStatus::Failed;
       result.message = fmt::format("IDA failed with {} at t = {:.9g} s, step size {:.3g} s: {}",
-                                   IDAGetReturnFlagName(flag), tcur, h, explain_failure(flag));
+                                   flag_name(flag), tcur, h, explain_failure(flag));
       t = tcur;
       break;
     }
@@ -392,10 +430,11 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
         const double margin = rep.chart_margin(dae.coordinates(y.data()));
         result.status = RunStatus::Failed;
         result.message = fmt::format(
-            "the Euler-angle chart '{}' reached its singularity margin {:.3g} at t = {:.9g} s (gimbal lock ahead; "
-            "the angle rates would blow up). Chart switching is off: enable it ([formulation.euler_angles] "
-            "switching = true), or use quaternion or linear coordinates",
-            rep.chart_name(), margin, t);
+            "chart singularity: IDA's root finding (IDA_ROOT_RETURN) found the Euler-angle chart '{}' at its "
+            "singularity margin {:.3g} at t = {:.9g} s, last step size {:.3g} s (gimbal lock ahead; the angle "
+            "rates would blow up). Chart switching is off: enable it ([formulation.euler_angles] switching = "
+            "true), or use quaternion or linear coordinates",
+            rep.chart_name(), margin, t, last_step());
         break;
       }
       const ChartSwitch s = change_chart(dae, t, y, yp);

@@ -1,30 +1,16 @@
 // The command line as a user meets it: exit codes, messages, output files.
 #include <doctest/doctest.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "cli_runner.hpp"
+
 namespace {
 
-struct Result {
-  int exit_code;
-  std::string output;  // stdout and stderr
-};
-
-Result run_cli(const std::string& args) {
-  const std::string cmd = std::string(RIGIDAE_CLI) + " " + args + " 2>&1";
-  Result r{-1, {}};
-  FILE* p = popen(cmd.c_str(), "r");
-  REQUIRE(p != nullptr);
-  char buf[4096];
-  std::size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-  const int status = pclose(p);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using Result = rigidae::test::CliResult;
+using rigidae::test::run_cli;
 
 std::filesystem::path temp_scene(const std::string& name, const std::string& text) {
   const auto dir = std::filesystem::temp_directory_path() / "rigidae_cli_tests";

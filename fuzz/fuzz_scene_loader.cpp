@@ -1,0 +1,100 @@
+// libFuzzer target: the scene loader and validator on arbitrary bytes.
+//
+// Every input must end in one of two ways: an InputError (bad input, the
+// CLI's exit 2) whose message is one line "fuzz.toml:LINE:COL: error: ..."
+// of printable text and reasonable length, or a Scene that is physically
+// valid -- a proper rotation, a positive mass, a positive definite inertia,
+// a time span, and a DAE that assembles and starts with finite numbers.
+// Anything else (a crash, a sanitizer report, another exception, a
+// malformed message, a valid-looking scene that is not) is a finding.
+// Build and run: tools/fuzz.sh (docs/robustness.md).
+#include <Eigen/Eigenvalues>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <string>
+
+#include "rigidae/core/error.hpp"
+#include "rigidae/dae/dae_system.hpp"
+#include "rigidae/io/scene_loader.hpp"
+
+namespace {
+
+using namespace rigidae;
+
+void require(bool ok, const char* what) {
+  if (ok) return;
+  std::fprintf(stderr, "fuzz_scene_loader: finding: %s\n", what);
+  std::abort();
+}
+
+// The form the CLI and the docs promise for every scene-file error.
+void check_message(const std::string& m) {
+  std::size_t i = std::string("fuzz.toml:").size();
+  require(m.compare(0, i, "fuzz.toml:") == 0, "an error message without the file name");
+  for (int field = 0; field < 2; ++field) {
+    const std::size_t digits = i;
+    while (i < m.size() && m[i] >= '0' && m[i] <= '9') ++i;
+    require(i > digits && i < m.size() && m[i] == ':' && m[digits] != '0', "an error message without LINE:COL");
+    ++i;
+  }
+  require(m.compare(i, 8, " error: ") == 0, "an error message without ' error: '");
+  require(m.size() < 2000, "an error message over 2000 bytes");
+  for (char c : m)
+    require(static_cast<unsigned char>(c) >= 0x20 && c != 0x7f, "a control character in an error message");
+}
+
+void check_valid(const Scene& s) {
+  require(s.body.mass > 0 && std::isfinite(s.body.mass), "a scene with a bad mass");
+  require(s.body.inertia_com.allFinite() && s.body.inertia_com.isApprox(s.body.inertia_com.transpose()),
+          "a non-symmetric inertia");
+  require(Eigen::SelfAdjointEigenSolver<Mat3>(s.body.inertia_com).eigenvalues().minCoeff() > 0,
+          "an inertia that is not positive definite");
+  require(s.R0_WB.allFinite() && (s.R0_WB.transpose() * s.R0_WB - Mat3::Identity()).norm() < 1e-12 &&
+              s.R0_WB.determinant() > 0,
+          "an initial orientation that is not a rotation");
+  require(s.omega0_B.allFinite() && s.gravity_W.allFinite() && s.body.com_B.allFinite(), "a non-finite vector");
+  require(std::isfinite(s.time.start) && std::isfinite(s.time.end) && s.time.end > s.time.start,
+          "a bad time span");
+  require(s.time.output_step > 0 && s.time.output_step <= s.time.end - s.time.start, "a bad output step");
+  require(s.solver.rtol > 0 && s.solver.rtol < 1 && s.solver.atol > 0 && s.solver.atol < 1, "bad tolerances");
+  require(s.solver.max_order >= 1 && s.solver.max_order <= 5 && s.solver.max_steps >= 1, "bad solver limits");
+}
+
+void check_start(const Scene& s) {
+  std::unique_ptr<DaeSystem> dae;
+  try {
+    dae = assemble_dae(s);
+  } catch (const InputError&) {
+    return;  // a formulation that does not apply to this scene, reported as bad input
+  }
+  Eigen::VectorXd y, yp, F(dae->size());
+  dae->consistent_state(s.time.start, s.R0_WB, s.omega0_B, y, yp);
+  require(y.allFinite() && yp.allFinite(), "a start that is not finite");
+  dae->residual(s.time.start, y.data(), yp.data(), F.data());
+  require(F.allFinite(), "a residual at the start that is not finite");
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  std::cerr.rdbuf(nullptr);  // the loader's warnings would flood the fuzzer's output
+  return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  Scene scene;
+  try {
+    scene = io::parse_scene(text, "fuzz.toml");
+  } catch (const InputError& e) {
+    check_message(e.what());
+    return 0;
+  }
+  check_valid(scene);
+  check_start(scene);
+  return 0;
+}
