@@ -30,10 +30,12 @@ struct ErrorSeries {
   }
 };
 
-double digits(double worst) {
-  if (worst == 0.0) return std::numeric_limits<double>::infinity();
-  return -std::log10(worst);
-}
+// As the IVP Test Set's report code: an error below the unit round-off
+// counts as the round-off, so an exact match gives ~15.95 digits, not +inf.
+double digits(double worst) { return -std::log10(std::max(worst, std::numeric_limits<double>::epsilon() / 2)); }
+
+// Reference components this small carry no relative accuracy; the Test Set skips them.
+constexpr double kNegligible = 1e-200;
 
 Eigen::VectorXd physical_state(const Vec4& q, const Vec3& omega) {
   Eigen::VectorXd y(7);
@@ -45,12 +47,8 @@ Eigen::VectorXd physical_state(const Vec4& q, const Vec3& omega) {
 
 double significant_correct_digits(const Eigen::VectorXd& y, const Eigen::VectorXd& y_ref) {
   double worst = 0.0;
-  for (Eigen::Index i = 0; i < y.size(); ++i) {
-    const double d = std::abs(y[i] - y_ref[i]);
-    if (d == 0.0) continue;
-    if (y_ref[i] == 0.0) return -std::numeric_limits<double>::infinity();
-    worst = std::max(worst, d / std::abs(y_ref[i]));
-  }
+  for (Eigen::Index i = 0; i < y.size(); ++i)
+    if (std::abs(y_ref[i]) >= kNegligible) worst = std::max(worst, std::abs(y[i] - y_ref[i]) / std::abs(y_ref[i]));
   return digits(worst);
 }
 

@@ -57,6 +57,28 @@ std::string ReferenceTrajectory::describe() const {
                      combination, rtol, check_combination, accuracy_rad);
 }
 
+std::optional<ReferenceTrajectory> exact_reference(const Scene& scene, std::string* why) {
+  std::unique_ptr<exact::ExactSolution> closed_form;
+  try {
+    closed_form = exact::make_exact_solution(scene, why);
+  } catch (const std::invalid_argument& e) {  // a case the closed forms do not cover (e.g. a separatrix)
+    if (why) *why = e.what();
+  }
+  if (!closed_form) return std::nullopt;
+  ReferenceTrajectory ref;
+  ref.exact = ref.ok = true;
+  ref.combination = "exact: " + closed_form->name();
+  ref.accuracy_rad = closed_form->accuracy();
+  const OutputGrid grid(scene.time);
+  for (std::size_t k = 0; k < grid.size(); ++k) {
+    const exact::RotationState s = closed_form->at(grid[k]);
+    ref.t.push_back(grid[k]);
+    ref.q_WB.push_back(so3::matrix_to_quaternion(s.R_WB));
+    ref.omega_B.push_back(s.omega_B);
+  }
+  return ref;
+}
+
 double default_reference_rtol(double rtol) { return std::clamp(rtol / 100.0, 1e-13, 1e-12); }
 
 ReferenceTrajectory make_reference(const Scene& scene, const std::string& kind, double tight_rtol,
@@ -67,32 +89,17 @@ ReferenceTrajectory make_reference(const Scene& scene, const std::string& kind, 
   };
   if (kind != "auto" && kind != "exact" && kind != "tight")
     throw InputError(fmt::format("unknown reference '{}'; valid values: auto, exact, tight", kind));
-  ReferenceTrajectory ref;
-  std::string why_not_exact;
-  std::unique_ptr<exact::ExactSolution> closed_form;
   if (kind != "tight") {
-    try {
-      closed_form = exact::make_exact_solution(scene, &why_not_exact);
-    } catch (const std::invalid_argument& e) {  // a case the closed forms do not cover (e.g. a separatrix)
-      why_not_exact = e.what();
+    std::string why_not_exact;
+    std::optional<ReferenceTrajectory> closed_form = exact_reference(scene, &why_not_exact);
+    if (closed_form) {
+      say(fmt::format("reference: {} (accuracy {:.1e} rad)", closed_form->combination, closed_form->accuracy_rad));
+      return *closed_form;
     }
-    if (!closed_form && kind == "exact")
+    if (kind == "exact")
       throw InputError(fmt::format("{}: no exact solution for this scene: {}", scene.source, why_not_exact));
   }
-  if (closed_form) {
-    ref.exact = ref.ok = true;
-    ref.combination = "exact: " + closed_form->name();
-    ref.accuracy_rad = closed_form->accuracy();
-    ref.t = output_grid(scene.time);
-    for (double t : ref.t) {
-      const exact::RotationState s = closed_form->at(t);
-      ref.q_WB.push_back(so3::matrix_to_quaternion(s.R_WB));
-      ref.omega_B.push_back(s.omega_B);
-    }
-    say(fmt::format("reference: {} (closed form, accuracy {:.1e} rad)", closed_form->name(), ref.accuracy_rad));
-    return ref;
-  }
-
+  ReferenceTrajectory ref;
   ref.rtol = tight_rtol;
   const Combination ref_combo{Coordinates::Quaternion, Equations::Euler, "ggl"};
   const Combination check_combo{Coordinates::EulerAngles, Equations::Euler, "any"};
@@ -138,12 +145,13 @@ std::optional<ReferenceTrajectory> read_reference(const std::filesystem::path& d
   }
   ReferenceTrajectory ref;
   ref.ok = j.value("ok", false);
+  if (!ref.ok) return std::nullopt;
   ref.message = j.value("message", "");
   ref.combination = j.value("combination", "");
   ref.check_combination = j.value("check_combination", "");
   ref.rtol = j.value("rtol", 0.0);
   ref.accuracy_rad = j["accuracy_rad"].is_number() ? j["accuracy_rad"].get<double>() : kNaN;
-  if (ref.ok) fill_from_run(ref, dir);
+  fill_from_run(ref, dir);
   return ref;
 }
 

@@ -99,7 +99,7 @@ std::string cell(const json& run, const Column& c) {
   switch (c.kind) {
     case Kind::Text: return v.get<std::string>();
     case Kind::Quoted: return quoted(v.get<std::string>());
-    case Kind::Tolerance: return fmt::format("{:g}", v.get<double>());
+    case Kind::Tolerance: return fmt::format("{}", v.get<double>());
     case Kind::Integer: return std::to_string(v.get<long>());
     case Kind::Size: return std::to_string(v.size());
     default: return cell(num(v));

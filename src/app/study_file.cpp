@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "../io/toml_reader.hpp"
+#include "rigidae/app/reference.hpp"
 #include "rigidae/app/study.hpp"
 #include "rigidae/io/scene_loader.hpp"
 
@@ -39,19 +40,26 @@ std::vector<std::string> strings(const TomlReader& r, const toml::node& n, std::
   return v;
 }
 
-// Numbers in (0, 1), distinct.
-std::vector<double> tolerances(const TomlReader& r, const toml::node& n, std::string_view name) {
+// Numbers in [lowest, 1), distinct.
+std::vector<double> tolerances(const TomlReader& r, const toml::node& n, std::string_view name, double lowest) {
   std::vector<double> v;
-  const toml::array& a = array_of(r, n, name, "numbers in (0, 1)");
+  const toml::array& a = array_of(r, n, name, fmt::format("numbers in [{:g}, 1)", lowest));
   for (std::size_t i = 0; i < a.size(); ++i) {
     const toml::node& e = *a.get(i);
     const std::string item = fmt::format("{}[{}]", name, i);
     const double x = r.number(e, item);
-    if (!(x > 0.0 && x < 1.0)) r.fail(e, fmt::format("'{}' = {} must be in (0, 1)", item, x));
+    if (!(x >= lowest && x < 1.0)) r.fail(e, fmt::format("'{}' = {} must be in [{:g}, 1)", item, x, lowest));
     if (std::find(v.begin(), v.end(), x) != v.end()) r.fail(e, fmt::format("'{}' = {:g} is listed twice", item, x));
     v.push_back(x);
   }
   return v;
+}
+
+// Names that become folder names and CSV cells unquoted.
+bool folder_name(const std::string& s) {
+  return !s.empty() && s.size() <= 100 && s.front() != '.' && std::all_of(s.begin(), s.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+  });
 }
 
 void check_patterns(const TomlReader& r, const toml::node& n, const std::vector<std::string>& patterns,
@@ -80,10 +88,8 @@ StudySpec read_study(const TomlReader& r, const toml::table& root) {
   spec.name = std::filesystem::path(r.file()).stem().string();
   if (const toml::node* n = root.get("name")) {
     spec.name = r.string(*n, "name");
-    const bool safe = !spec.name.empty() && std::all_of(spec.name.begin(), spec.name.end(), [](char c) {
-      return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
-    });
-    if (!safe) r.fail(*n, "'name' must be a non-empty folder name (letters, digits, '_', '-', '.')");
+    if (!folder_name(spec.name)) r.fail(*n, "'name' must be a folder name: letters, digits, '_', '-', '.', not "
+                                            "starting with '.'");
   }
   if (const toml::node* n = root.get("description")) spec.description = r.string(*n, "description");
 
@@ -97,6 +103,10 @@ StudySpec read_study(const TomlReader& r, const toml::table& root) {
     if (!std::filesystem::is_regular_file(p, ec))
       r.fail(e, fmt::format("scene file '{}' (scenes[{}], relative to the study file) does not exist", p.string(), i));
     spec.scenes.push_back(io::load_scene(p.lexically_normal().string()));
+    if (!folder_name(spec.scenes.back().name))
+      r.fail(e, fmt::format("scene '{}' is named \"{}\"; a study names run folders and CSV rows by scene, so "
+                            "scene names must be letters, digits, '_', '-' or '.' (set 'name' in the scene file)",
+                            p.string(), io::printable(spec.scenes.back().name)));
     for (std::size_t k = 0; k + 1 < spec.scenes.size(); ++k)
       if (spec.scenes[k].name == spec.scenes.back().name)
         r.fail(e, fmt::format("two scenes are named '{}': run folders are named by scene, so names must differ",
@@ -106,13 +116,15 @@ StudySpec read_study(const TomlReader& r, const toml::table& root) {
   if (const toml::node* n = root.get("reference")) {
     static constexpr std::array<std::string_view, 3> kKinds{"auto", "exact", "tight"};
     spec.reference = std::string(kKinds[r.choice(*n, "reference", kKinds)]);
+    for (const Scene& scene : spec.scenes) {
+      std::string why;
+      if (spec.reference == "exact" && !exact_reference(scene, &why))
+        r.fail(*n, fmt::format("'reference' = \"exact\" but scene '{}' has no closed-form solution: {} (use "
+                               "\"auto\" or \"tight\")",
+                               scene.name, why));
+    }
   }
-  if (const toml::node* n = root.get("reference_rtol")) {
-    const double x = r.number(*n, "reference_rtol");
-    if (!(x > 0.0 && x < 1.0)) r.fail(*n, fmt::format("'reference_rtol' = {} must be in (0, 1)", x));
-    spec.reference_rtol = x;
-  }
-  if (const toml::node* n = root.get("targets")) spec.targets = tolerances(r, *n, "targets");
+  if (const toml::node* n = root.get("targets")) spec.targets = tolerances(r, *n, "targets", 1e-300);
 
   const toml::table& grid = r.required_table(root, "", "grid");
   r.check_keys(grid, "grid", kGridKeys, kSchema);
@@ -125,7 +137,19 @@ StudySpec read_study(const TomlReader& r, const toml::table& root) {
     spec.skip = strings(r, *n, "grid.skip");
     check_patterns(r, *n, spec.skip, "grid.skip");
   }
-  spec.rtols = tolerances(r, r.required(grid, "grid", "rtol", "relative tolerances in (0, 1)"), "grid.rtol");
+  spec.rtols = tolerances(r, r.required(grid, "grid", "rtol", "relative tolerances in (0, 1)"), "grid.rtol",
+                          kMinRelativeTolerance);
+  if (plan_study(spec).empty())
+    r.fail(grid.source(), "[grid] combinations and skip leave no combination to run (see rigidae compare --help "
+                          "for the patterns)");
+  if (const toml::node* n = root.get("reference_rtol")) {
+    const double x = r.number(*n, "reference_rtol");
+    const double smallest = *std::min_element(spec.rtols.begin(), spec.rtols.end());
+    if (!(x >= kMinRelativeTolerance && x <= smallest))
+      r.fail(*n, fmt::format("'reference_rtol' = {} must be in [{:g}, {:g}] (no looser than the tightest run)", x,
+                             kMinRelativeTolerance, smallest));
+    spec.reference_rtol = x;
+  }
   if (const toml::node* n = grid.get("atol")) {
     if (n->is_string()) {
       if (r.string(*n, "grid.atol") != "rtol")
@@ -133,7 +157,8 @@ StudySpec read_study(const TomlReader& r, const toml::table& root) {
     } else {
       spec.atol_tied = false;
       spec.atol = r.number(*n, "grid.atol");
-      if (!(spec.atol > 0.0)) r.fail(*n, fmt::format("'grid.atol' = {} must be > 0", spec.atol));
+      if (!(spec.atol >= kMinAbsoluteTolerance && spec.atol < 1.0))
+        r.fail(*n, fmt::format("'grid.atol' = {} must be in [{:g}, 1)", spec.atol, kMinAbsoluteTolerance));
     }
   }
   if (const toml::node* n = grid.get("atol_ratio")) {

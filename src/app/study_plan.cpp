@@ -5,13 +5,15 @@
 #include <charconv>
 #include <cstdlib>
 
+#include "rigidae/app/reference.hpp"
 #include "rigidae/app/study.hpp"
 #include "rigidae/core/error.hpp"
 
 namespace rigidae {
 
 std::string StudyRun::id(const StudySpec& spec) const {
-  return fmt::format("{}/{}/rtol_{:g}_atol_{:g}", spec.scenes[scene].name, combination.folder(), rtol, atol);
+  // Shortest round-trip text: distinct tolerances never share a folder.
+  return fmt::format("{}/{}/rtol_{}_atol_{}", spec.scenes[scene].name, combination.folder(), rtol, atol);
 }
 
 Scene StudyRun::scene_for(const StudySpec& spec) const {
@@ -19,6 +21,14 @@ Scene StudyRun::scene_for(const StudySpec& spec) const {
   s.solver.rtol = rtol;
   s.solver.atol = atol;
   return s;
+}
+
+std::string study_reference_kind(const StudySpec& spec, const Scene& scene) {
+  return spec.reference.empty() ? to_string(scene.reference) : spec.reference;
+}
+
+double study_reference_rtol(const StudySpec& spec) {
+  return spec.reference_rtol.value_or(default_reference_rtol(*std::min_element(spec.rtols.begin(), spec.rtols.end())));
 }
 
 std::vector<StudyRun> plan_study(const StudySpec& spec) {

@@ -47,6 +47,13 @@ void publish(const fs::path& tmp, const fs::path& final_path) {
   }
 }
 
+// A folder at a final name without its completion marker is not ours (no
+// worker renames an incomplete folder into place): a leftover, replaced.
+void replace_incomplete(const fs::path& final_path, const char* marker) {
+  std::error_code ec;
+  if (fs::exists(final_path, ec) && !fs::exists(final_path / marker, ec)) fs::remove_all(final_path, ec);
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t m = v.size() / 2;
@@ -59,30 +66,48 @@ class StudyReferences {
  public:
   StudyReferences(const StudySpec& spec, fs::path out) : spec_(spec), out_(std::move(out)) {}
 
-  const ReferenceTrajectory& of(std::size_t scene) {
+  // nullptr when interrupted while making it; SolverError when it failed.
+  const ReferenceTrajectory* of(std::size_t scene) {
     auto it = cache_.find(scene);
-    if (it != cache_.end()) return it->second;
+    if (it != cache_.end()) return &it->second;
     const Scene& s = spec_.scenes[scene];
-    const std::string kind = spec_.reference.empty() ? to_string(s.reference) : spec_.reference;
-    const double smallest = *std::min_element(spec_.rtols.begin(), spec_.rtols.end());
-    const double rtol = spec_.reference_rtol.value_or(default_reference_rtol(smallest));
-    const fs::path dir = out_ / "reference" / s.name;
-    std::optional<ReferenceTrajectory> ref = kind == "exact" ? std::nullopt : read_reference(dir);
-    if (!ref) {
-      fs::create_directories(dir.parent_path());
-      const fs::path tmp = temporary_name(dir);
-      ref = make_reference(s, kind, rtol, tmp, nullptr);
-      if (ref->exact) {
-        std::error_code ec;
-        fs::remove_all(tmp, ec);
-      } else {
-        publish(tmp, dir);
-      }
-    }
-    return cache_.emplace(scene, std::move(*ref)).first->second;
+    const std::string kind = study_reference_kind(spec_, s);
+    std::string why;
+    std::optional<ReferenceTrajectory> ref = kind == "tight" ? std::nullopt : exact_reference(s, &why);
+    if (!ref && kind == "exact")  // load_study checks this; a scene file edited since is caught here
+      throw InputError(fmt::format("{}: no exact solution for this scene: {}", s.source, why));
+    if (!ref) ref = tight(s);
+    if (!ref) return nullptr;
+    return &cache_.emplace(scene, std::move(*ref)).first->second;
   }
 
  private:
+  std::optional<ReferenceTrajectory> tight(const Scene& s) {
+    const double rtol = study_reference_rtol(spec_);
+    const fs::path dir = out_ / "reference" / s.name;
+    if (std::optional<ReferenceTrajectory> ref = read_reference(dir)) {
+      if (ref->rtol != rtol)
+        throw InputError(fmt::format("{} holds a reference at rtol {}, but this study asks for rtol {}: give "
+                                     "another --out, or delete that folder to make it again",
+                                     dir.string(), ref->rtol, rtol));
+      return ref;
+    }
+    fs::create_directories(dir.parent_path());
+    const fs::path tmp = temporary_name(dir);
+    ReferenceTrajectory ref = make_reference(s, "tight", rtol, tmp, nullptr);
+    if (!ref.ok) {
+      std::error_code ec;
+      fs::remove_all(tmp, ec);
+      if (g_interrupt_requested.load()) return std::nullopt;
+      throw SolverError(fmt::format("the tight reference of scene '{}' ({} at rtol {}) failed: {}; no run of this "
+                                    "scene can be measured (try a looser reference_rtol in the study file)",
+                                    s.name, ref.combination, rtol, ref.message));
+    }
+    replace_incomplete(dir, "reference.json");
+    publish(tmp, dir);
+    return ref;
+  }
+
   const StudySpec& spec_;
   fs::path out_;
   std::map<std::size_t, ReferenceTrajectory> cache_;
@@ -151,7 +176,8 @@ bool run_study(const StudySpec& spec, const std::vector<StudyRun>& runs, const S
       if (opt.progress) opt.progress(p);
       continue;
     }
-    const ReferenceTrajectory& ref = references.of(run.scene);
+    const ReferenceTrajectory* ref = references.of(run.scene);
+    if (!ref) return false;  // interrupted while making it
     const Scene scene = run.scene_for(spec);
     fs::create_directories(final_path.parent_path());
     const fs::path tmp = temporary_name(final_path);
@@ -170,9 +196,10 @@ bool run_study(const StudySpec& spec, const std::vector<StudyRun>& runs, const S
       if (k >= spec.warmups || outcome.run.status != RunStatus::Success) wall.push_back(outcome.wall_seconds);
       if (outcome.run.status != RunStatus::Success) break;
     }
-    const RunAccuracy acc = measure_accuracy(scene, read_trajectory_csv(tmp / "trajectory.csv"), ref,
+    const RunAccuracy acc = measure_accuracy(scene, read_trajectory_csv(tmp / "trajectory.csv"), *ref,
                                              outcome.run.status == RunStatus::Success);
-    std::ofstream(tmp / "run.json") << run_record(spec, run, outcome, wall, acc, ref).dump(2) << "\n";
+    std::ofstream(tmp / "run.json") << run_record(spec, run, outcome, wall, acc, *ref).dump(2) << "\n";
+    replace_incomplete(final_path, "run.json");
     publish(tmp, final_path);
     ++p.done;
     if (outcome.run.status != RunStatus::Success) ++p.failed;

@@ -2,7 +2,9 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 
@@ -97,7 +99,18 @@ class ProgressLine {
   Clock::time_point start_ = Clock::now(), last_print_{};
 };
 
-std::string absolute_path(const fs::path& p) { return fs::absolute(p).lexically_normal().string(); }
+// A word for sh: as it is when it holds nothing special, else in single quotes.
+std::string shell_word(const std::string& s) {
+  const bool plain = !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("/._-+=:,@%", c);
+  });
+  if (plain) return s;
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+std::string absolute_path(const fs::path& p) { return shell_word(fs::absolute(p).lexically_normal().string()); }
 
 int collect(const StudySpec& spec, const StudyCommandLine& c) {
   std::vector<std::string> missing;
@@ -129,8 +142,8 @@ int study_command(const std::vector<std::string>& args) {
   if (c.action == "list") {
     const std::string exe = fs::read_symlink("/proc/self/exe", ec).string();
     for (const StudyRun& r : plan)
-      fmt::print("{} study run {} --out {} --run {} --quiet\n", ec ? "rigidae" : exe, absolute_path(c.file),
-                 absolute_path(c.out), r.id(spec));
+      fmt::print("{} study run {} --out {} --run {} --quiet\n", ec ? "rigidae" : shell_word(exe),
+                 absolute_path(c.file), absolute_path(c.out), shell_word(r.id(spec)));
     return 0;
   }
   if (c.action == "collect") return collect(spec, c);

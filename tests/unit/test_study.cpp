@@ -87,11 +87,13 @@ TEST_CASE("scd and mescd follow the IVP Test Set's definitions on a hand-made ca
   CHECK(mixed_significant_correct_digits(y, ref, 2.0) == doctest::Approx(-std::log10(0.002 / 4.0)).epsilon(1e-9));
   y << 1.0 + 1e-7, 2.0, -4.0 * (1 + 1e-5);  // the worst component decides
   CHECK(significant_correct_digits(y, ref) == doctest::Approx(5.0).epsilon(1e-6));
-  CHECK(std::isinf(significant_correct_digits(ref, ref)));
+  const double all_digits = -std::log10(std::numeric_limits<double>::epsilon() / 2);
+  CHECK(significant_correct_digits(ref, ref) == doctest::Approx(all_digits));
   ref << 0.0, 2.0, -4.0;
-  y << 1e-300, 2.0, -4.0;  // any error in a zero component: relative error is infinite
-  CHECK(significant_correct_digits(y, ref) == -std::numeric_limits<double>::infinity());
-  CHECK(mixed_significant_correct_digits(y, ref, 1.0) > 299.0);
+  y << 1e-3, 2.0, -4.0 * (1 + 1e-5);  // a zero reference component is left out, as in the Test Set
+  CHECK(significant_correct_digits(y, ref) == doctest::Approx(5.0).epsilon(1e-6));
+  // mixed: the zero component counts, against atol/rtol = 1
+  CHECK(mixed_significant_correct_digits(y, ref, 1.0) == doctest::Approx(3.0).epsilon(1e-9));
 }
 
 TEST_CASE("a study's shards cover every run exactly once, for any number of shards") {
@@ -235,13 +237,21 @@ TEST_CASE("study files: errors name the file, line and key, and what would be va
   std::string m = message(head + "[grid]\nrtols = [1e-6]\n");
   CHECK(m.find("bad.toml:4:1: error: unknown key 'rtols' in [grid]; did you mean 'rtol'?") != std::string::npos);
   m = message(head + "[grid]\nrtol = [1e-6, 2.0]\n");
-  CHECK(m.find("bad.toml:4:15: error: 'grid.rtol[1]' = 2 must be in (0, 1)") != std::string::npos);
+  CHECK(m.find("bad.toml:4:15: error: 'grid.rtol[1]' = 2 must be in [1e-14, 1)") != std::string::npos);
   m = message(head + "[grid]\nrtol = [1e-6]\ncombinations = [\"quaternoin/*/ggl\"]\n");
   CHECK(m.find("bad.toml:5:17: error: 'grid.combinations[0]' = \"quaternoin/*/ggl\" matches no combination") !=
         std::string::npos);
   m = message("schema_version = 1\nscenes = [\"nowhere.toml\"]\n[grid]\nrtol = [1e-6]\n");
   CHECK(m.find("bad.toml:2:11: error: scene file") != std::string::npos);
   CHECK(m.find("does not exist") != std::string::npos);
+  m = message(head + "[grid]\nrtol = [1e-6]\ncombinations = [\"ggl\"]\nskip = [\"quaternion\", \"linear\"]\n");
+  CHECK(m.find("bad.toml:3:1: error: [grid] combinations and skip leave no combination to run") != std::string::npos);
+  m = message(head + "reference_rtol = 1e-3\n[grid]\nrtol = [1e-6]\n");
+  CHECK(m.find("bad.toml:3:18: error: 'reference_rtol' = 0.001 must be in [1e-14, 1e-06]") != std::string::npos);
+  std::ofstream(dir / "slash.toml") << std::string(kFreeBody).replace(std::string(kFreeBody).find("free_body_short"), 15, "a,b");
+  m = message("schema_version = 1\nscenes = [\"slash.toml\"]\n[grid]\nrtol = [1e-6]\n");
+  CHECK(m.find("bad.toml:2:11: error: scene") != std::string::npos);
+  CHECK(m.find("scene names must be letters, digits") != std::string::npos);
   m = message(head + "[grid]\nrtol = [1e-6]\n[timing]\nrepeats = 0\n");
   CHECK(m.find("bad.toml:6:11: error: 'timing.repeats' = 0 must be an integer from 1 to 1000") != std::string::npos);
 }
@@ -263,4 +273,55 @@ TEST_CASE("a scene may insist on the exact reference, and is told when it has no
     CHECK(m.find("off_axis.toml:") == 0);
     CHECK(m.find("'reference' = \"exact\" but this scene has no closed-form solution") != std::string::npos);
   }
+}
+
+TEST_CASE("tolerances that differ only in the seventh digit get their own run folders") {
+  StudySpec spec;
+  spec.scenes = {test::heavy_top_scene()};
+  spec.rtols = {1e-6, 1.0000001e-6};
+  spec.only = {"quaternion/euler/ggl"};
+  const std::vector<StudyRun> plan = plan_study(spec);
+  REQUIRE(plan.size() == 2u);
+  CHECK(plan[0].id(spec) != plan[1].id(spec));
+}
+
+TEST_CASE("a leftover folder without run.json at a run's place is replaced, not taken as done") {
+  const fs::path dir = fresh_dir("leftover");
+  const StudySpec spec = write_and_load_study(dir, "combinations = [\"quaternion/euler/index1\"]\nrtol = [1e-4]\n");
+  const std::vector<StudyRun> plan = plan_study(spec);
+  const fs::path out = dir / "out";
+  fs::create_directories(run_folder(out, spec, plan[0]));
+  std::ofstream(run_folder(out, spec, plan[0]) / "steps.csv") << "# someone else's\n";
+  CHECK_FALSE(run_complete(out, spec, plan[0]));
+  StudyRunOptions opt;
+  opt.out = out;
+  CHECK(run_study(spec, plan, opt));
+  CHECK(run_complete(out, spec, plan[0]));
+  CHECK(run_record(out, spec, plan[0])["status"] == "success");
+}
+
+TEST_CASE("a tight reference that fails stops the study with the reason, and leaves no reference behind") {
+  const fs::path dir = fresh_dir("failed_reference");
+  // An off-axis centre of mass: no closed form, so the reference is a tight
+  // run; one step allowed makes it fail at once.
+  std::string scene = kFreeBody;
+  const std::string free_support = "[support]\ntype = \"free\"";
+  scene.replace(scene.find(free_support), free_support.size(),
+                "center_of_mass = [0.1, 0.0, 0.2]\n[support]\ntype = \"fixed_point\"");
+  scene += "[solver]\nmax_steps = 1\n";
+  std::ofstream(dir / "free_body_short.toml") << scene;
+  std::ofstream(dir / "study.toml") << "schema_version = 1\nname = \"t\"\nscenes = [\"free_body_short.toml\"]\n"
+                                       "[timing]\nwarmups = 0\nrepeats = 1\n[grid]\ncombinations = [\"euler/euler/any\"]\n"
+                                       "rtol = [1e-4]\n";
+  const StudySpec spec = load_study((dir / "study.toml").string());
+  StudyRunOptions opt;
+  opt.out = dir / "out";
+  try {
+    run_study(spec, plan_study(spec), opt);
+    FAIL("the study went on without a reference");
+  } catch (const SolverError& e) {
+    CHECK(std::string(e.what()).find("the tight reference of scene 'free_body_short'") != std::string::npos);
+  }
+  CHECK_FALSE(fs::exists(opt.out / "reference" / "free_body_short"));
+  CHECK_FALSE(run_complete(opt.out, spec, plan_study(spec)[0]));
 }

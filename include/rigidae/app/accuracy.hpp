@@ -31,7 +31,9 @@ struct RunAccuracy {
 // Significant correct digits as the IVP Test Set defines them:
 //   scd   = -log10 max_i |y_i - yref_i| / |yref_i|
 //   mescd = -log10 max_i |y_i - yref_i| / (atol/rtol + |yref_i|)
-// +inf when y equals yref; a zero yref_i with y_i != 0 gives scd = -inf.
+// As in the Test Set's report code, components with |yref_i| < 1e-200 are
+// left out of scd, and errors below the unit round-off count as it (so at
+// most -log10(2^-53) = 15.95 digits).
 double significant_correct_digits(const Eigen::VectorXd& y, const Eigen::VectorXd& y_ref);
 double mixed_significant_correct_digits(const Eigen::VectorXd& y, const Eigen::VectorXd& y_ref, double atol_over_rtol);
 

@@ -30,6 +30,10 @@ struct ReferenceTrajectory {
   std::string describe() const;
 };
 
+// The closed-form reference on the scene's output grid, or nullopt with
+// `why` filled when the scene has none.
+std::optional<ReferenceTrajectory> exact_reference(const Scene& scene, std::string* why);
+
 // The default tight rtol for a run tolerance: rtol / 100 in [1e-13, 1e-12].
 double default_reference_rtol(double rtol);
 
@@ -42,7 +46,7 @@ ReferenceTrajectory make_reference(const Scene& scene, const std::string& kind, 
                                    const std::function<void(const std::string&)>& progress);
 
 // A tight reference that make_reference wrote into dir earlier; nullopt when
-// dir holds none.
+// dir holds none, or only a failed one.
 std::optional<ReferenceTrajectory> read_reference(const std::filesystem::path& dir);
 
 // The kind a scene asks for ("auto", "exact" or "tight").

@@ -37,6 +37,11 @@ struct StudySpec {
   std::vector<double> targets{1e-3, 1e-6, 1e-9};  // error targets of the best-per-target table, rad
 };
 
+// The reference kind a study uses for one of its scenes ("auto", "exact",
+// "tight"), and the rtol of its tight references.
+std::string study_reference_kind(const StudySpec& spec, const Scene& scene);
+double study_reference_rtol(const StudySpec& spec);
+
 // Parses and validates a study file (TOML; docs/studies.md). Scene paths are
 // relative to the study file. Throws InputError "FILE:LINE:COL: error: ...".
 StudySpec load_study(const std::string& path);
