@@ -5,6 +5,8 @@
 // came from.
 #include <sundials/sundials_config.h>
 
+#include "peers/peer_common.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -70,15 +72,9 @@ double median(V v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// Rotation angle of conj(q_ref) q, scalar-first quaternions of any sign and
-// norm: the error measure of bench/peers (peer_common.hpp).
+// The error measure of bench/peers, so that every program is measured alike.
 inline double angle_between(const Eigen::Vector4d& q_ref, const Eigen::Vector4d& q) {
-  const double a = q_ref[0], b = -q_ref[1], c = -q_ref[2], d = -q_ref[3];
-  const double w = a * q[0] - b * q[1] - c * q[2] - d * q[3];
-  const double x = a * q[1] + b * q[0] + c * q[3] - d * q[2];
-  const double y = a * q[2] - b * q[3] + c * q[0] + d * q[1];
-  const double z = a * q[3] + b * q[2] - c * q[1] + d * q[0];
-  return 2.0 * std::atan2(std::sqrt(x * x + y * y + z * z), std::fabs(w));
+  return peers::angle_between({q_ref[0], q_ref[1], q_ref[2], q_ref[3]}, {q[0], q[1], q[2], q[3]});
 }
 
 }  // namespace bench

@@ -73,15 +73,6 @@ struct Options {
   long calls = 200000;
 };
 
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ','))
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
-
 Options parse(int argc, char** argv) {
   Options o;
   if (argc < 2) throw InputError("usage: rigidae_bench info|reference|cost|sweep [SCENE] [options]; see the source header");
@@ -101,11 +92,11 @@ Options parse(int argc, char** argv) {
     if (a == "--jacobian") o.jacobian = next();
     else if (a == "--rtol" || a == "--rtols") {
       o.rtols.clear();
-      for (const auto& s : split(next())) o.rtols.push_back(std::stod(s));
+      for (const auto& s : peers::split(next())) o.rtols.push_back(std::stod(s));
     } else if (a == "--repeats") o.repeats = std::max(1, std::stoi(next()));
     else if (a == "--budget") o.budget_s = std::stod(next());
-    else if (a == "--only") o.only = split(next());
-    else if (a == "--skip") o.skip = split(next());
+    else if (a == "--only") o.only = peers::split(next());
+    else if (a == "--skip") o.skip = peers::split(next());
     else if (a == "--reference") o.reference = next();
     else if (a == "--mode") o.mode = next();
     else if (a == "--out") o.out = next();

@@ -58,12 +58,7 @@ std::string ReferenceTrajectory::describe() const {
 }
 
 std::optional<ReferenceTrajectory> exact_reference(const Scene& scene, std::string* why) {
-  std::unique_ptr<exact::ExactSolution> closed_form;
-  try {
-    closed_form = exact::make_exact_solution(scene, why);
-  } catch (const std::invalid_argument& e) {  // a case the closed forms do not cover (e.g. a separatrix)
-    if (why) *why = e.what();
-  }
+  const std::unique_ptr<exact::ExactSolution> closed_form = exact::find_exact_solution(scene, why);
   if (!closed_form) return std::nullopt;
   ReferenceTrajectory ref;
   ref.exact = ref.ok = true;

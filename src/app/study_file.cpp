@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "../io/toml_reader.hpp"
-#include "rigidae/app/reference.hpp"
 #include "rigidae/app/study.hpp"
+#include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"
 
 namespace rigidae {
@@ -118,7 +118,7 @@ StudySpec read_study(const TomlReader& r, const toml::table& root) {
     spec.reference = std::string(kKinds[r.choice(*n, "reference", kKinds)]);
     for (const Scene& scene : spec.scenes) {
       std::string why;
-      if (spec.reference == "exact" && !exact_reference(scene, &why))
+      if (spec.reference == "exact" && !exact::find_exact_solution(scene, &why))
         r.fail(*n, fmt::format("'reference' = \"exact\" but scene '{}' has no closed-form solution: {} (use "
                                "\"auto\" or \"tight\")",
                                scene.name, why));

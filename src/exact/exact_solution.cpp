@@ -59,4 +59,13 @@ std::unique_ptr<ExactSolution> make_exact_solution(const Scene& scene, std::stri
   return nullptr;
 }
 
+std::unique_ptr<ExactSolution> find_exact_solution(const Scene& scene, std::string* why) {
+  try {
+    return make_exact_solution(scene, why);
+  } catch (const std::invalid_argument& e) {
+    if (why) *why = e.what();
+    return nullptr;
+  }
+}
+
 }  // namespace rigidae::exact

@@ -568,11 +568,7 @@ void read_reference_kind(const TomlReader& r, const toml::table& root, Scene& sc
   scene.reference = static_cast<ReferenceKind>(r.choice(*n, "reference", kKinds));
   if (scene.reference != ReferenceKind::Exact) return;
   std::string why;
-  try {
-    if (exact::make_exact_solution(scene, &why)) return;
-  } catch (const std::invalid_argument& e) {
-    why = e.what();
-  }
+  if (exact::find_exact_solution(scene, &why)) return;
   r.fail(*n, fmt::format("'reference' = \"exact\" but this scene has no closed-form solution: {} (use \"auto\" "
                          "or \"tight\" for a tight run of quaternion/euler/ggl)",
                          why));

@@ -46,4 +46,9 @@ class ExactSolution {
 // closed forms do not cover (the message says which).
 std::unique_ptr<ExactSolution> make_exact_solution(const Scene& scene, std::string* why);
 
+// The same, with the degenerate cases also reported through `why` (nullptr
+// and the reason) instead of thrown: for callers that only need to know
+// whether a closed form exists, and why not.
+std::unique_ptr<ExactSolution> find_exact_solution(const Scene& scene, std::string* why);
+
 }  // namespace rigidae::exact
