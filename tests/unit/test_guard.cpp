@@ -1,0 +1,95 @@
+// The regression guard: a refactoring of the core changes no result.
+//
+// tests/guard/pinned.json holds, for the 26 coordinates x equations x scheme
+// combinations on the heavy top and for every shipped scene in its own
+// formulation, IDA's integer counters and the final state as computed on
+// commit 4f13209 (tools/pin_guard.py wrote it). Each run here is the real
+// CLI on the same scene; its counters must be equal (band 0) and its final
+// orientation within 1e-12 rad of the pinned one. A change that moves these
+// numbers changes what users see and must say why.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli_runner.hpp"
+
+namespace {
+
+using nlohmann::json;
+
+json pinned_runs() {
+  std::ifstream in(std::string(RIGIDAE_SOURCE_DIR) + "/tests/guard/pinned.json");
+  REQUIRE(in.good());
+  return json::parse(in)["runs"];
+}
+
+// Angle (rad) between the rotations of two unit quaternions, either sign.
+double rotation_angle(const json& a, const json& b) {
+  double dot = 0.0, na = 0.0, nb = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    const double x = a[i].get<double>(), y = b[i].get<double>();
+    dot += x * y;
+    na += x * x;
+    nb += y * y;
+  }
+  // 2 acos(|a.b|) loses digits near 1; 4 asin of the half-chord does not.
+  double d2 = 0.0;
+  const double s = dot < 0 ? -1.0 : 1.0;
+  for (int i = 0; i < 4; ++i) {
+    const double d = a[i].get<double>() / std::sqrt(na) - s * b[i].get<double>() / std::sqrt(nb);
+    d2 += d * d;
+  }
+  return 4.0 * std::asin(std::min(1.0, std::sqrt(d2) / 2.0));
+}
+
+void check_run(const json& pin) {
+  const std::string name = pin["name"];
+  INFO("pinned run: " << name);
+  const auto dir = rigidae::test::fresh_temp_dir("guard-" + std::to_string(std::hash<std::string>{}(name)));
+  std::string args = "solve " + std::string(RIGIDAE_SOURCE_DIR) + "/" + pin["scene"].get<std::string>() +
+                     " --quiet --out " + dir.string();
+  for (const auto& a : pin["args"]) args += " " + a.get<std::string>();
+  const auto r = rigidae::test::run_cli(args);
+  INFO(r.output);
+  REQUIRE(r.exit_code == (pin["status"] == "success" ? 0 : 1));
+  std::ifstream in(dir / "summary.json");
+  REQUIRE(in.good());
+  const json s = json::parse(in);
+  CHECK(s["status"] == pin["status"]);
+  for (const auto& [key, value] : pin["counters"].items()) {
+    INFO("counter " << key);
+    CHECK(s["counters"][key].get<long>() == value.get<long>());
+  }
+  CHECK(s["chart_switch_count"].get<long>() == pin["chart_switch_count"].get<long>());
+  CHECK(s["final"]["t"].get<double>() == pin["t"].get<double>());
+  CHECK(rotation_angle(s["final"]["q_WB"], pin["q_WB"]) <= 1e-12);
+  for (int i = 0; i < 3; ++i) {
+    const double w = pin["omega_B"][i].get<double>();
+    CHECK(std::abs(s["final"]["omega_B"][i].get<double>() - w) <= 1e-9 * std::max(1.0, std::abs(w)));
+  }
+}
+
+}  // namespace
+
+TEST_CASE("guard: the 26 combinations on the heavy top keep today's counters and final state") {
+  int n = 0;
+  for (const auto& pin : pinned_runs())
+    if (pin["name"].get<std::string>().rfind("heavy_top/", 0) == 0 && pin["args"].size() > 0) {
+      check_run(pin);
+      ++n;
+    }
+  CHECK(n == 26);
+}
+
+TEST_CASE("guard: every shipped scene keeps today's counters and final state in its own formulation") {
+  int n = 0;
+  for (const auto& pin : pinned_runs())
+    if (pin["args"].empty()) {
+      check_run(pin);
+      ++n;
+    }
+  CHECK(n >= 9);
+}
