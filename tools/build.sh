@@ -10,5 +10,12 @@ packages=(g++ cmake ninja-build pkg-config
           python3-numpy python3-matplotlib)
 bash tools/install_missing.sh rigidae "${packages[@]}"
 
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+# ccache, when present, shares compiled objects between checkouts of the
+# same tree (CCACHE_BASEDIR makes its keys independent of the folder).
+launcher=()
+if command -v ccache >/dev/null; then
+  export CCACHE_BASEDIR="$PWD"
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+fi
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" >/dev/null
 cmake --build build -j"$(nproc)"

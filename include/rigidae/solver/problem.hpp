@@ -1,0 +1,110 @@
+#pragma once
+// The narrow view an integrator has of an assembled system.
+//
+// A DaeProblem is F(t, y, y') = 0 with everything an implicit integrator
+// (IDA) needs and nothing else: its size, a consistent start, which unknowns
+// are differential, per-unknown absolute tolerances, the residual, the exact
+// iteration matrix dF/dy + cj dF/dy' (dense or on a fixed sparse pattern),
+// root functions (events) and what to do at an event or after an accepted
+// step (project, change a chart, or stop). It never exposes the scene or the
+// physics: the single rigid body (dae/) and the multibody assembler
+// (multibody/) both implement it, and the driver (solver/) sees only this.
+//
+// An OdeProblem is x' = f(t, x) for the explicit and Adams integrators
+// (CVODE, ARKODE), with the same events and after-step actions and an
+// optional projection onto the invariants.
+//
+// Conventions: vectors are plain arrays of size(); dense matrices are
+// column-major size() x size(); sparse patterns are compressed sparse columns
+// with 64-bit indices (SUNDIALS' sunindextype on Debian), rows ascending
+// within each column, built once.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace rigidae {
+
+// Compressed sparse columns of an n x n matrix: column c holds the entries
+// rows[col_start[c]] .. rows[col_start[c+1]-1].
+struct SparsityPattern {
+  std::vector<std::int64_t> col_start;  // n + 1
+  std::vector<std::int64_t> rows;       // nnz
+  std::int64_t nnz() const { return static_cast<std::int64_t>(rows.size()); }
+};
+
+// What a problem asks of the integrator at an event or after a step.
+struct StepAction {
+  enum class Kind {
+    Continue,  // nothing changed
+    Restart,   // y (and y') were changed at t: reinitialise the integrator there
+    Fail,      // stop the run as failed, with message
+  };
+  Kind kind = Kind::Continue;
+  double restart_step = 0.0;  // first step after a restart; 0 = the integrator's own estimate
+  std::string message;        // for Fail: why, in the user's words
+  bool projected = false;     // the restart is a projection onto the constraints (counted)
+
+  static StepAction proceed() { return {}; }
+};
+
+// Receives the problem's own events as they happen (chart switches,
+// projections), so a recorder can write them; the driver only forwards.
+struct EventNote {
+  double t = 0.0;
+  std::string what;   // "chart_switch" or "projection"
+  std::string body;   // the body concerned, "" for a single body
+  std::string from, to;
+  double margin = 0.0;            // chart margin where it was left
+  double drift_position = 0.0;    // before a projection
+  double drift_velocity = 0.0;
+};
+
+class DaeProblem {
+ public:
+  virtual ~DaeProblem() = default;
+
+  virtual int size() const = 0;
+
+  // A consistent (y, y') at t0 (the residual vanishes to round-off). May
+  // record events (a chart chosen at the start) through take_events().
+  virtual void initial_state(double t0, Eigen::VectorXd& y, Eigen::VectorXd& yp) = 0;
+  // Keeps the differential part of y and recomputes the algebraic part and
+  // y' consistently at t (used for the first-step estimate).
+  virtual void make_consistent(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) = 0;
+
+  // 1 for differential unknowns, 0 for algebraic ones (size()).
+  virtual void differential_id(Eigen::Ref<Eigen::VectorXd> id) const = 0;
+  // Whether id-0 unknowns leave the error test (index 2 and above).
+  virtual bool suppress_algebraic_error_test() const = 0;
+  // Per-unknown absolute tolerances from the user's (rtol, atol) and the start y0.
+  virtual void absolute_tolerances(double rtol, double atol, const Eigen::VectorXd& y0,
+                                   Eigen::Ref<Eigen::VectorXd> out) const = 0;
+
+  // The hot path. Allocates nothing. Returns false when F is not finite
+  // (the integrator then retries with a smaller step).
+  virtual bool residual(double t, const double* y, const double* yp, double* F) = 0;
+  // Exact dF/dy + cj dF/dy', dense column-major into J (zeroed by the callee).
+  virtual void iteration_matrix_dense(double t, double cj, const double* y, const double* yp, double* J) = 0;
+  // The iteration matrix's structural pattern (fixed for the run).
+  virtual const SparsityPattern& sparsity() const = 0;
+  // The same matrix's values in sparsity()'s order.
+  virtual void iteration_matrix_sparse(double t, double cj, const double* y, const double* yp, double* values) = 0;
+
+  // Root functions: the integrator stops where one crosses zero.
+  virtual int event_count() const { return 0; }
+  virtual void event_functions(double /*t*/, const double* /*y*/, double* /*g*/) {}
+  // At a root found by the integrator, with (y, y') there.
+  virtual StepAction on_event(double /*t*/, Eigen::VectorXd& /*y*/, Eigen::VectorXd& /*yp*/) { return {}; }
+  // After every accepted step (projection, chart checks). Not called at the end time.
+  virtual StepAction after_step(double /*t*/, Eigen::VectorXd& /*y*/, Eigen::VectorXd& /*yp*/) { return {}; }
+
+  // Events that happened since the last call (chart switches, projections), oldest first.
+  virtual std::vector<EventNote> take_events() { return {}; }
+
+  // Residual evaluations the problem spent itself (difference Jacobians).
+  virtual long own_residual_evaluations() const { return 0; }
+};
+
+}  // namespace rigidae
