@@ -10,6 +10,7 @@
 #include <string>
 
 #include "rigidae/core/types.hpp"
+#include "rigidae/model/multibody_spec.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
 
 namespace rigidae {
@@ -108,6 +109,9 @@ struct Scene {
   Formulation formulation;
   SolverSettings solver;
   ReferenceKind reference = ReferenceKind::Auto;  // for compare and study
+  // Schema-2 scenes: the bodies, joints and forces (body, support, gravity_W,
+  // R0_WB and omega0_B above are then unused). Unset for one-body scenes.
+  std::optional<MultibodySpec> multibody;
 };
 
 // The Baumgarte gains a run uses, (a, b) in 1/s. Unset ones default to the

@@ -1,0 +1,105 @@
+#pragma once
+// A validated multibody scene (schema_version 2): rigid bodies in absolute
+// coordinates joined by joints, with forces. Plain, immutable data.
+//
+// Produced by the schema-2 scene loader (io/), which checks every value and
+// reports file:line:col; consumed by the multibody assembler (multibody/).
+//
+// Conventions (SI units, radians):
+//   - each body's frame B has its origin at the body's centre of mass;
+//   - R_WB maps body components to space (world) components;
+//   - every joint point and axis here is in the frame of the body it belongs
+//     to (from that body's centre of mass); for the ground they are in space.
+//     The loader converts what the user writes (space frame at the initial
+//     pose, by default) into these body-frame values;
+//   - axes are unit vectors.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rigidae/core/types.hpp"
+
+namespace rigidae {
+
+enum class Coordinates;  // model/scene.hpp
+
+// Index of the ground in joint and force body references.
+inline constexpr int kGround = -1;
+
+// Where a definition sits in the scene file, for messages raised after loading
+// (e.g. redundant constraint rows found at the start).
+struct SourcePosition {
+  std::string file;
+  int line = 0, column = 0;
+};
+
+struct BodySpec {
+  std::string name;
+  double mass = 1.0;                    // kg, > 0
+  Mat3 inertia_com = Mat3::Identity();  // kg m^2 about the centre of mass, body axes, SPD
+  // Initial state.
+  Vec3 x0_W = Vec3::Zero();        // m, centre of mass in space
+  Mat3 R0_WB = Mat3::Identity();   // an exact rotation after loading
+  Vec3 v0_W = Vec3::Zero();        // m/s, centre-of-mass velocity in space
+  Vec3 omega0_B = Vec3::Zero();    // rad/s, angular velocity in body components
+  // Per-body override of the scene's coordinates (unset: the formulation's).
+  std::optional<Coordinates> coordinates;
+  SourcePosition where;
+};
+
+enum class JointType { Spherical, Revolute, Universal, Prismatic, Cylindrical, Fixed };
+
+struct JointSpec {
+  std::string name;
+  JointType type = JointType::Spherical;
+  int body_a = kGround, body_b = kGround;  // indices into bodies, or kGround
+  // The joint point on each body (body frame, from its centre of mass).
+  Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero();
+  // The joint axis on each body (body frame, unit): the hinge axis (revolute),
+  // the sliding axis (prismatic, cylindrical). Universal: axis_a is the
+  // cross-pin axis fixed in a, axis_b the one fixed in b (perpendicular).
+  Vec3 axis_a = Vec3::UnitZ(), axis_b = Vec3::UnitZ();
+  // A direction on each body normal to the axis, perpendicular to it, used by
+  // prismatic and fixed joints to stop the rotation about the axis, and as the
+  // zero of a revolute joint's angle (unit, normal_a . axis_a = 0).
+  Vec3 normal_a = Vec3::UnitX(), normal_b = Vec3::UnitX();
+  // Torsional spring-damper in a revolute joint: torque -k (theta - theta0) - c theta'.
+  double torsion_stiffness = 0.0;  // N m / rad
+  double torsion_damping = 0.0;    // N m s / rad
+  double torsion_rest_angle = 0.0; // rad
+  SourcePosition where;
+};
+
+// A linear spring-damper between two body points: force along the line,
+// k (|d| - L0) + c d/dt|d|.
+struct SpringSpec {
+  std::string name;
+  int body_a = kGround, body_b = kGround;
+  Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero();  // body frames (space for the ground)
+  double stiffness = 0.0;    // N/m
+  double damping = 0.0;      // N s/m
+  double rest_length = 0.0;  // m
+  SourcePosition where;
+};
+
+// A constant force (at the centre of mass) and torque on one body.
+struct BodyLoadSpec {
+  int body = 0;
+  Vec3 force = Vec3::Zero();   // N
+  Vec3 torque = Vec3::Zero();  // N m
+  bool body_frame = false;     // components in the body frame (rotating with it), else space
+  SourcePosition where;
+};
+
+struct MultibodySpec {
+  std::vector<BodySpec> bodies;
+  std::vector<JointSpec> joints;
+  std::vector<SpringSpec> springs;
+  std::vector<BodyLoadSpec> loads;
+  Vec3 gravity_W = Vec3(0, 0, -9.81);  // m/s^2
+  // Largest position-level joint miss at the start that is projected (with a
+  // warning) rather than refused; larger misses are an error naming the joint.
+  double start_tolerance = 1e-6;  // m (and rad for angular rows)
+};
+
+}  // namespace rigidae
