@@ -162,6 +162,23 @@ int chart_root_callback(realtype /*t*/, N_Vector yy, N_Vector /*yp*/, realtype* 
   return 0;
 }
 
+// IDA's own messages. Left alone, IDA prints "[IDA ERROR] ..." to stderr
+// beside rigidae's explanation; instead the handler keeps the latest text
+// (IDA calls it synchronously, on the thread inside IDASolve) and it is
+// folded into rigidae's failure message.
+thread_local std::string t_ida_said;
+
+void keep_ida_message(int code, const char* /*module*/, const char* function, char* msg, void* /*data*/) {
+  try {
+    t_ida_said = fmt::format("{}{}: {}", code == IDA_WARNING ? "warning in " : "", function ? function : "IDA",
+                             msg ? msg : "");
+  } catch (...) {  // nothing may be thrown through C
+  }
+}
+
+// " (IDA: ...)" when IDA said something, else nothing.
+std::string what_ida_said() { return t_ida_said.empty() ? "" : fmt::format(" (IDA: {})", t_ida_said); }
+
 // IDA's name for a return flag. IDAGetReturnFlagName mallocs the string and
 // leaves freeing it to the caller (found by LeakSanitizer, tools/sanitize.sh).
 std::string flag_name(int flag) {
@@ -172,7 +189,7 @@ std::string flag_name(int flag) {
 }
 
 void check(int flag, const char* what) {
-  if (flag < 0) throw SolverError(fmt::format("{} failed: {}", what, flag_name(flag)));
+  if (flag < 0) throw SolverError(fmt::format("{} failed: {}{}", what, flag_name(flag), what_ida_said()));
 }
 
 void add_counters(void* mem, IdaCounters& c) {
@@ -282,6 +299,8 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
     data.dense.resize(static_cast<std::size_t>(n) * n);
   }
   IdaSession ida(n, static_cast<long>(data.pattern.rows.size()));
+  t_ida_said.clear();
+  check(IDASetErrHandlerFn(ida.mem, keep_ida_message, nullptr), "IDASetErrHandlerFn");
 
   Eigen::VectorXd y, yp;
   dae.consistent_state(span.start, scene.R0_WB, scene.omega0_B, y, yp);
@@ -417,8 +436,8 @@ RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
       IDAGetCurrentStep(ida.mem, &h);
       IDAGetCurrentTime(ida.mem, &tcur);
       result.status = RunStatus::Failed;
-      result.message = fmt::format("IDA failed with {} at t = {:.9g} s, step size {:.3g} s: {}",
-                                   flag_name(flag), tcur, h, explain_failure(flag));
+      result.message = fmt::format("IDA failed with {} at t = {:.9g} s, step size {:.3g} s: {}{}",
+                                   flag_name(flag), tcur, h, explain_failure(flag), what_ida_said());
       t = tcur;
       break;
     }
