@@ -4,12 +4,14 @@
 #include <sundials/sundials_config.h>
 
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/dae/dae_system.hpp"
 #include "rigidae/dae/single_body_problem.hpp"
+#include "rigidae/io/checked_file.hpp"
 #include "rigidae/so3/rotation.hpp"
 
 namespace rigidae {
@@ -57,6 +59,32 @@ nlohmann::json configuration_json(const Scene& s) {
         {"linear_solver", s.solver.linear_solver},
         {"jacobian", s.solver.jacobian}}},
   };
+}
+
+// JSON has no NaN: a measure not checked is null.
+nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+
+nlohmann::json accuracy_check_json(const SolveOutcome& o) {
+  const InvariantDrifts& d = o.drifts;
+  return {{"tolerance", d.tolerance},
+          {"energy", number_or_null(d.energy)},
+          {"angular_momentum", number_or_null(d.angular_momentum)},
+          {"vertical_angular_momentum", number_or_null(d.vertical_angular_momentum)},
+          {"constraint_position", number_or_null(d.constraint_position)},
+          {"constraint_velocity", number_or_null(d.constraint_velocity)},
+          {"definitions", "maxima over the steps; see include/rigidae/app/accuracy_check.hpp"}};
+}
+
+nlohmann::json warnings_json(const std::vector<AccuracyWarning>& warnings) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const AccuracyWarning& w : warnings)
+    a.push_back({{"quantity", w.quantity},
+                 {"drift", w.drift},
+                 {"limit", w.limit},
+                 {"factor", w.factor},
+                 {"tolerance", w.tolerance},
+                 {"message", w.message}});
+  return a;
 }
 
 void write_summary(const std::filesystem::path& path, const Scene& scene, const SolveOutcome& o) {
@@ -107,6 +135,8 @@ void write_summary(const std::filesystem::path& path, const Scene& scene, const 
         {"abs_energy_rel_error", o.extremes.max_abs_energy_error},
         {"abs_vertical_momentum_rel_error", o.extremes.max_abs_vertical_momentum_error}}},
       {"multipliers", multipliers},
+      {"accuracy_check", accuracy_check_json(o)},
+      {"warnings", warnings_json(o.warnings)},
       {"final",
        {{"t", f.t},
         {"q_WB", vec_json(f.q_WB)},
@@ -118,10 +148,8 @@ void write_summary(const std::filesystem::path& path, const Scene& scene, const 
         {"vertical_momentum", f.vertical_momentum},
         {"vertical_momentum_rel_error", f.vertical_momentum_error}}},
   };
-  std::ofstream out(path);
-  if (!out) throw InputError(fmt::format("{}: cannot open for writing", path.string()));
   // A path from the command line need not be UTF-8; JSON must be: invalid bytes become U+FFFD.
-  out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
+  write_file_atomically(path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + '\n');
 }
 
 }  // namespace
@@ -146,18 +174,37 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
   o.multiplier_names = dae->multiplier_names();
 
   RunRecorder recorder(*dae, scene, out_dir);
+  InvariantMonitor monitor(*dae, scene, recorder);
   const auto t0 = std::chrono::steady_clock::now();
+  std::string lost;  // the first output file that could not be written completely
   try {
     SingleBodyProblem problem(*dae, scene.formulation.euler, scene.R0_WB, scene.omega0_B, scene.source);
-    o.run = integrate(problem, scene.solver, scene.time, recorder);
+    o.run = integrate(problem, scene.solver, scene.time, monitor);
   } catch (const SolverError& e) {
     o.run.status = RunStatus::Failed;
     o.run.message = e.what();
+  } catch (const OutputError& e) {
+    lost = e.what();
   }
   o.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  recorder.flush();
+  try {
+    recorder.close();
+  } catch (const OutputError& e) {
+    if (lost.empty()) lost = e.what();
+  }
   o.extremes = recorder.extremes();
+  o.drifts = monitor.drifts();
+  o.warnings = monitor.warnings();
+  if (!lost.empty()) {
+    // Results that did not reach the disk are no success, however the solver fared.
+    o.run.status = RunStatus::Failed;
+    o.run.t_reached = o.extremes.last.t;
+    o.run.message = fmt::format("output lost: {}; the run stopped there (last recorded t = {:.9g} s) and what "
+                                "was written is kept",
+                                lost, o.extremes.last.t);
+  }
   write_summary(out_dir / "summary.json", scene, o);
+  if (!lost.empty()) throw OutputError(o.run.message);
   return o;
 }
 

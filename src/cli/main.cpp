@@ -8,6 +8,7 @@
 
 #include "commands.hpp"
 #include "rigidae/core/error.hpp"
+#include "rigidae/io/checked_file.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 #include "scene_options.hpp"
@@ -66,6 +67,9 @@ int run(int argc, char** argv) {
   // Ctrl-C or a job scheduler's TERM: stop between steps, keep what is written.
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
+  // Past a file-size limit (ulimit -f) a write fails with EFBIG, which the
+  // checked outputs report, instead of the process dying without a word.
+  std::signal(SIGXFSZ, SIG_IGN);
   const std::vector<std::string> rest(args.begin() + 1, args.end());
   if (args[0] == "solve") return cli::solve_command(rest);
   if (args[0] == "compare") return cli::compare_command(rest);
@@ -86,6 +90,9 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const SolverError& e) {
     fmt::print(stderr, "rigidae: solver error: {}\n", e.what());
+    return 1;
+  } catch (const OutputError& e) {
+    fmt::print(stderr, "rigidae: error: {}\n", e.what());
     return 1;
   } catch (const std::exception& e) {
     fmt::print(stderr, "rigidae: internal error: {}\n", e.what());

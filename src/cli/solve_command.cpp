@@ -72,6 +72,8 @@ int solve_command(const std::vector<std::string>& args) {
       out_arg.empty() ? std::filesystem::path("out") / default_run_name(scene) : std::filesystem::path(out_arg);
   const SolveOutcome o = solve_scene(scene, out);
   if (!quiet || o.run.status != RunStatus::Success) print_report(scene, o);
+  // Accuracy warnings (app/accuracy_check.hpp) reach stderr even with --quiet.
+  for (const AccuracyWarning& w : o.warnings) fmt::print(stderr, "rigidae: warning: {}\n", w.message);
   if (o.run.status != RunStatus::Success) {
     fmt::print(stderr, "rigidae: error: {}\n", o.run.message);
     return 1;

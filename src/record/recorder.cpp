@@ -32,18 +32,9 @@ const char* kUnits =
 }  // namespace
 
 CsvStream::CsvStream(const std::filesystem::path& path, const std::string& units_comment, const std::string& header)
-    : buffer_(kWriteBuffer) {
-  f_ = std::fopen(path.c_str(), "w");
-  if (!f_) throw InputError(fmt::format("{}: cannot open for writing: {}", path.string(), std::strerror(errno)));
-  std::setvbuf(f_, buffer_.data(), _IOFBF, buffer_.size());
-  fmt::print(f_, "{}\n{}\n", units_comment, header);
+    : stream_(path, kWriteBuffer) {
+  stream_.write(fmt::format("{}\n{}\n", units_comment, header));
 }
-
-CsvStream::~CsvStream() {
-  if (f_) std::fclose(f_);
-}
-
-void CsvStream::flush() { std::fflush(f_); }
 
 RunRecorder::RunRecorder(const DaeSystem& dae, const Scene& scene, const std::filesystem::path& out_dir)
     : dae_(dae),
@@ -78,7 +69,7 @@ void put(fmt::memory_buffer& b, double x, char before = ',') {
 
 }  // namespace
 
-void RunRecorder::write_observation(std::FILE* f, const Observation& o, fmt::memory_buffer& b) {
+void RunRecorder::write_observation(CheckedStream& f, const Observation& o, fmt::memory_buffer& b) {
   for (int i = 0; i < 4; ++i) put(b, o.q_WB(i));
   for (int i = 0; i < 3; ++i) put(b, o.omega_B(i));
   put(b, o.drift.position);
@@ -94,7 +85,7 @@ void RunRecorder::write_observation(std::FILE* f, const Observation& o, fmt::mem
     b.append(chart.data(), chart.data() + chart.size());
   }
   b.push_back('\n');
-  std::fwrite(b.data(), 1, b.size(), f);
+  f.write(b.data(), b.size());
 }
 
 void RunRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& y) {
@@ -125,15 +116,25 @@ void RunRecorder::on_output(double t, const Eigen::VectorXd& y) {
 
 void RunRecorder::on_event(const EventNote& e) {
   if (e.what == "chart_switch")
-    fmt::print(events_.file(), "{},chart_switch,{},{},{},,\n", e.t, e.from, e.to, e.margin);
+    events_.file().write(fmt::format("{},chart_switch,{},{},{},,\n", e.t, e.from, e.to, e.margin));
   else if (e.what == "projection")
-    fmt::print(events_.file(), "{},projection,,,,{},{}\n", e.t, e.drift_position, e.drift_velocity);
+    events_.file().write(fmt::format("{},projection,,,,{},{}\n", e.t, e.drift_position, e.drift_velocity));
 }
 
 void RunRecorder::flush() {
   steps_.flush();
   trajectory_.flush();
   events_.flush();
+}
+
+void RunRecorder::close() {
+  std::string first;
+  for (CsvStream* f : {&steps_, &trajectory_, &events_}) try {
+      f->close();
+    } catch (const OutputError& e) {
+      if (first.empty()) first = e.what();
+    }
+  if (!first.empty()) throw OutputError(first);
 }
 
 }  // namespace rigidae
