@@ -28,6 +28,7 @@
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/exact/exact_solution.hpp"
+#include "rigidae/settings/settings.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
 #include "rigidae/so3/rotation.hpp"
 #include "toml_reader.hpp"
@@ -88,9 +89,6 @@ constexpr double kMaxMass = 1e9;                 // kg
 constexpr double kMaxAngularVelocity = 1e6;      // rad/s
 constexpr double kMaxGravity = 1e4;              // m/s^2
 constexpr double kMaxCenterOfMass = 1e6;         // m
-constexpr double kMaxBaumgarteGain = 1e8;        // 1/s
-constexpr double kMinRtol = kMinRelativeTolerance;  // see scene.hpp
-constexpr double kMaxTime = kMaxTimeMagnitude;   // s, |time.start| and |time.end|
 constexpr std::size_t kMaxNameBytes = 100;       // the name becomes part of the default output folder
 constexpr std::size_t kMaxSceneBytes = 1 << 20;  // a scene is a few hundred bytes; a bigger file is a mistake
 
@@ -391,172 +389,88 @@ void read_initial(const TomlReader& r, const toml::table& root, Scene& scene) {
   scene.omega0_B = space ? Vec3(scene.R0_WB.transpose() * w) : w;
 }
 
+// The table's settings (rigidae/settings) that live in `table` of the scene:
+// read with the type the table states, checked by settings::problem, stored
+// through the table's accessor. One check and one wording for the scene file,
+// the command line and study files.
+void read_settings(const TomlReader& r, const toml::table& t, std::string_view table, Scene& scene) {
+  for (const settings::Setting& s : settings::all()) {
+    if (s.scene_key.empty() || !s.set) continue;
+    const std::size_t dot = s.scene_key.rfind('.');
+    const std::string_view parent = dot == std::string_view::npos ? std::string_view() : s.scene_key.substr(0, dot);
+    if (parent != table) continue;
+    const toml::node* n = t.get(dot == std::string_view::npos ? s.scene_key : s.scene_key.substr(dot + 1));
+    if (!n) continue;
+    settings::Value v;
+    switch (s.kind) {
+      case settings::Kind::Real: v = r.number(*n, s.scene_key); break;
+      case settings::Kind::Integer: v = r.integer(*n, s.scene_key); break;
+      case settings::Kind::Boolean: v = r.boolean(*n, s.scene_key); break;
+      case settings::Kind::Choice:
+      case settings::Kind::Text: v = r.string(*n, s.scene_key); break;
+    }
+    const std::string why = settings::problem(s, v);
+    if (!why.empty()) r.fail(*n, fmt::format("'{}' = {}", s.scene_key, why));
+    s.set(scene, v);
+  }
+}
+
 void read_time(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table& t = r.required_table(root, "", "time");
   r.check_keys(t, "time", kTimeKeys, kAllSections);
-  double start = 0.0;
-  const auto check_magnitude = [&](const toml::node& n, std::string_view name, double x) {
-    if (std::abs(x) > kMaxTime)
-      r.fail(n, fmt::format("'{}' = {} s is too large; times must lie within +-{:g} s", name, x, kMaxTime));
-  };
-  if (const toml::node* s = t.get("start")) {
-    start = r.number(*s, "time.start");
-    check_magnitude(*s, "time.start", start);
-  }
-  const toml::node& end_node = r.required(t, "time", "end", "s, > start");
-  const double end = r.number(end_node, "time.end");
-  check_magnitude(end_node, "time.end", end);
-  if (!(end > start))
-    r.fail(end_node, fmt::format("'time.end' = {} must be greater than 'time.start' = {}", end, start));
-  const double span = end - start;
-  double step = span / 100.0;
-  if (const toml::node* o = t.get("output_step")) {
-    step = r.number(*o, "time.output_step");
-    if (!(step > 0.0) || step > span)
-      r.fail(*o, fmt::format("'time.output_step' = {} must be > 0 and <= end - start = {} s", step, span));
-    if (span / step > kMaxOutputIntervals)
-      r.fail(*o, fmt::format("'time.output_step' = {} gives {:.3g} output intervals over {} s; at "
-                             "most {:g} are allowed",
-                             step, span / step, span, kMaxOutputIntervals));
-  }
-  scene.time.start = start;
-  scene.time.end = end;
-  scene.time.output_step = step;
+  r.required(t, "time", "end", "s, > start");
+  read_settings(r, t, "time", scene);
+  // Unset, the grid has 100 intervals (settings::cross_problem checks the grid).
+  if (!t.get("output_step") && scene.time.end > scene.time.start)
+    scene.time.output_step = (scene.time.end - scene.time.start) / 100.0;
 }
 
-void read_euler_charts(const TomlReader& r, const toml::table& f, EulerChartSpec& euler) {
+void read_euler_charts(const TomlReader& r, const toml::table& f, EulerChartSpec& euler, Scene& scene) {
   const toml::table* ea = r.optional_table(f, "formulation", "euler_angles");
   if (!ea) return;
   r.check_keys(*ea, "formulation.euler_angles", kEulerAnglesKeys, kAllSections);
   const bool extrinsic = read_convention(r, *ea, "formulation.euler_angles");
-  if (const toml::node* s = ea->get("sequence")) {
-    const std::string letters = r.string(*s, "formulation.euler_angles.sequence");
-    if (letters == "auto")
-      euler.sequence.reset();
-    else
-      euler.sequence = read_sequence(r, *s, "formulation.euler_angles.sequence", extrinsic, nullptr);
-  }
-  if (const toml::node* s = ea->get("switching"))
-    euler.switching = r.boolean(*s, "formulation.euler_angles.switching");
-  if (const toml::node* s = ea->get("switch_threshold")) {
-    const double th = r.number(*s, "formulation.euler_angles.switch_threshold");
-    if (!(th > 0.0 && th < 1.0))
-      r.fail(*s, fmt::format("'formulation.euler_angles.switch_threshold' = {} must lie in (0, 1) "
-                             "(a margin |sin b| or |cos b|)",
-                             th));
-    euler.switch_threshold = th;
-  }
-}
-
-void read_baumgarte(const TomlReader& r, const toml::table& f, BaumgarteGains& gains) {
-  const toml::table* b = r.optional_table(f, "formulation", "baumgarte");
-  if (!b) return;
-  r.check_keys(*b, "formulation.baumgarte", kBaumgarteKeys, kAllSections);
-  for (const char* key : {"a", "b"}) {
-    const toml::node* n = b->get(key);
-    if (!n) continue;
-    const std::string name = fmt::format("formulation.baumgarte.{}", key);
-    const double v = r.number(*n, name);
-    if (!(v >= 0.0 && v <= kMaxBaumgarteGain))
-      r.fail(*n, fmt::format("'{}' = {} must lie in [0, {:g}] (1/s; a rate of the constraint feedback)", name, v,
-                             kMaxBaumgarteGain));
-    (key[0] == 'a' ? gains.a : gains.b) = v;
-  }
-}
-
-void read_projection(const TomlReader& r, const toml::table& f, ProjectionSpec& spec) {
-  const toml::table* p = r.optional_table(f, "formulation", "projection");
-  if (!p) return;
-  r.check_keys(*p, "formulation.projection", kProjectionKeys, kAllSections);
-  if (const toml::node* w = p->get("when")) {
-    constexpr std::array<std::string_view, 2> opts{"threshold", "every_step"};
-    spec.every_step = r.choice(*w, "formulation.projection.when", opts) == 1;
-  }
-  if (const toml::node* n = p->get("threshold")) {
-    const double v = r.number(*n, "formulation.projection.threshold");
-    if (!(v > 0.0 && v < 1.0))
-      r.fail(*n, fmt::format("'formulation.projection.threshold' = {} must lie in (0, 1) (a drift |Phi|, e.g. 1e-8)",
-                             v));
-    spec.threshold = v;
-  }
+  read_settings(r, *ea, "formulation.euler_angles", scene);
+  // The table reads the letters as intrinsic; extrinsic letters name the reversed sequence.
+  if (extrinsic && euler.sequence) euler.sequence = so3::parse_euler_sequence(euler.sequence->name(), true);
 }
 
 void read_formulation(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* f = r.optional_table(root, "", "formulation");
   if (!f) return;
   r.check_keys(*f, "formulation", kFormulationKeys, kAllSections);
-  Formulation& form = scene.formulation;
-  if (const toml::node* c = f->get("coordinates")) {
-    constexpr std::array<std::string_view, 3> opts{"euler", "quaternion", "linear"};
-    constexpr std::array<Coordinates, 3> vals{Coordinates::EulerAngles, Coordinates::Quaternion,
-                                              Coordinates::Linear};
-    form.coordinates = vals[r.choice(*c, "formulation.coordinates", opts)];
+  read_settings(r, *f, "formulation", scene);
+  read_euler_charts(r, *f, scene.formulation.euler, scene);
+  for (const char* sub : {"baumgarte", "projection"}) {
+    const std::string table = fmt::format("formulation.{}", sub);
+    const toml::table* t = r.optional_table(*f, "formulation", sub);
+    if (!t) continue;
+    r.check_keys(*t, table, sub[0] == 'b' ? std::span<const std::string_view>(kBaumgarteKeys)
+                                          : std::span<const std::string_view>(kProjectionKeys),
+                 kAllSections);
+    read_settings(r, *t, table, scene);
   }
-  if (const toml::node* e = f->get("equations")) {
-    constexpr std::array<std::string_view, 2> opts{"lagrange", "euler"};
-    form.equations = r.choice(*e, "formulation.equations", opts) == 0 ? Equations::Lagrange
-                                                                      : Equations::Euler;
-  }
-  if (const toml::node* s = f->get("scheme")) {
-    // The scheme registry is the one list of valid names.
-    const std::vector<std::string> names = scheme_names();
-    const std::vector<std::string_view> views(names.begin(), names.end());
-    form.scheme = names[r.choice(*s, "formulation.scheme", views)];
-  }
-
-  read_euler_charts(r, *f, form.euler);
-  read_baumgarte(r, *f, form.baumgarte);
-  read_projection(r, *f, form.projection);
 }
 
 void read_solver(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* s = r.optional_table(root, "", "solver");
   if (!s) return;
   r.check_keys(*s, "solver", kSolverKeys, kAllSections);
-  SolverSettings& sol = scene.solver;
-  if (const toml::node* n = s->get("rtol")) {
-    const double v = r.number(*n, "solver.rtol");
-    if (!(v >= kMinRtol && v < 1.0))
-      r.fail(*n, fmt::format("'solver.rtol' = {} must lie in [{:g}, 1), e.g. 1e-8 (below {:g} round-off in "
-                             "double precision exceeds the tolerance and the step size collapses)",
-                             v, kMinRtol, kMinRtol));
-    sol.rtol = v;
+  read_settings(r, *s, "solver", scene);
+}
+
+// Checks between settings, reported at the key they name (or its table when
+// the file leaves the key out).
+void check_settings_together(const TomlReader& r, const toml::table& root, const Scene& scene) {
+  const std::optional<settings::CrossProblem> p = settings::cross_problem(scene);
+  if (!p) return;
+  toml::node_view<const toml::node> at = root.at_path(p->scene_key);
+  std::string_view key = p->scene_key;
+  while (!at && key.find('.') != std::string_view::npos) {
+    key = key.substr(0, key.rfind('.'));
+    at = root.at_path(key);
   }
-  if (const toml::node* n = s->get("atol")) {
-    const double v = r.number(*n, "solver.atol");
-    if (!(v >= kMinAbsoluteTolerance && v < 1.0))
-      r.fail(*n, fmt::format("'solver.atol' = {} must lie in [{:g}, 1), e.g. 1e-8 (below {:g} IDA's weighted "
-                             "norms overflow)",
-                             v, kMinAbsoluteTolerance, kMinAbsoluteTolerance));
-    sol.atol = v;
-  }
-  if (const toml::node* n = s->get("max_steps")) {
-    const long long v = r.integer(*n, "solver.max_steps");
-    if (v < 1) r.fail(*n, fmt::format("'solver.max_steps' = {} must be an integer >= 1", v));
-    sol.max_steps = static_cast<long>(v);
-  }
-  if (const toml::node* n = s->get("max_order")) {
-    const long long v = r.integer(*n, "solver.max_order");
-    if (v < 1 || v > 5) r.fail(*n, fmt::format("'solver.max_order' = {} must be an integer from 1 to 5", v));
-    sol.max_order = static_cast<int>(v);
-  }
-  if (const toml::node* n = s->get("initial_step")) {
-    const double v = r.number(*n, "solver.initial_step");
-    if (!(v >= 0.0))
-      r.fail(*n, fmt::format("'solver.initial_step' = {} must be >= 0 (0: estimated at the start)", v));
-    sol.initial_step = v;
-  }
-  if (const toml::node* n = s->get("jacobian")) {
-    static constexpr std::array<std::string_view, 3> kJacobians{"exact", "central", "ida_dq"};
-    sol.jacobian = std::string(kJacobians[r.choice(*n, "solver.jacobian", kJacobians)]);
-  }
-  if (const toml::node* n = s->get("linear_solver")) {
-    static constexpr std::array<std::string_view, 2> kLinearSolvers{"dense", "klu"};
-    sol.linear_solver = std::string(kLinearSolvers[r.choice(*n, "solver.linear_solver", kLinearSolvers)]);
-    if (sol.linear_solver == "klu" && sol.jacobian == "ida_dq")
-      r.fail(*n, "'solver.linear_solver' = \"klu\" needs 'solver.jacobian' = \"exact\" or \"central\" (IDA's "
-                 "difference quotients fill dense matrices only)");
-  }
+  r.fail(at ? at.node()->source() : root.source(), fmt::format("'{}' = {}", p->scene_key, p->message));
 }
 
 // After everything else: whether an exact solution exists depends on the
@@ -564,8 +478,7 @@ void read_solver(const TomlReader& r, const toml::table& root, Scene& scene) {
 void read_reference_kind(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::node* n = root.get("reference");
   if (!n) return;
-  static constexpr std::array<std::string_view, 3> kKinds{"auto", "exact", "tight"};
-  scene.reference = static_cast<ReferenceKind>(r.choice(*n, "reference", kKinds));
+  read_settings(r, root, "", scene);
   if (scene.reference != ReferenceKind::Exact) return;
   std::string why;
   if (exact::find_exact_solution(scene, &why)) return;
@@ -617,6 +530,7 @@ Scene read_scene(const TomlReader& r, const toml::table& root) {
   read_time(r, root, scene);
   read_formulation(r, root, scene);
   read_solver(r, root, scene);
+  check_settings_together(r, root, scene);
   read_reference_kind(r, root, scene);
   return scene;
 }

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "rigidae/record/columns.hpp"
 #include "rigidae/record/observation.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 
@@ -57,8 +58,8 @@ class RunRecorder final : public StepSink {
   const std::vector<std::string>& multiplier_names() const { return multiplier_names_; }
 
  private:
-  // Appends o's columns to the row started in b, then writes the row.
-  void write_observation(std::FILE* f, const Observation& o, fmt::memory_buffer& b);
+  // One row of `file` from the table of columns (record/columns.hpp).
+  void write_row(std::FILE* f, columns::File file, const columns::Sample& sample);
 
   const DaeSystem& dae_;
   std::vector<std::string> multiplier_names_;
