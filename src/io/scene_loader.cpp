@@ -54,35 +54,57 @@ constexpr std::array<std::string_view, 6> kInitialKeys{
     "quaternion", "euler", "matrix", "axis_angle", "angular_velocity", "angular_velocity_frame"};
 constexpr std::array<std::string_view, 3> kInitialEulerKeys{"sequence", "convention", "angles"};
 constexpr std::array<std::string_view, 2> kAxisAngleKeys{"axis", "angle"};
-constexpr std::array<std::string_view, 3> kTimeKeys{"start", "end", "output_step"};
-constexpr std::array<std::string_view, 6> kFormulationKeys{"coordinates", "equations", "scheme",
-                                                           "euler_angles", "baumgarte", "projection"};
-constexpr std::array<std::string_view, 4> kEulerAnglesKeys{"sequence", "convention", "switching",
-                                                           "switch_threshold"};
-constexpr std::array<std::string_view, 2> kBaumgarteKeys{"a", "b"};
-constexpr std::array<std::string_view, 2> kProjectionKeys{"when", "threshold"};
-constexpr std::array<std::string_view, 7> kSolverKeys{"rtol",         "atol",     "max_steps",    "max_order",
-                                                      "initial_step", "jacobian", "linear_solver"};
+// The keys of a table that holds settings: those the table of settings
+// (src/settings/table.cpp) places in it, then the table's structural keys.
+// A setting added there is accepted here without another list to edit.
+std::vector<std::string_view> setting_keys(std::string_view table, std::initializer_list<std::string_view> structural) {
+  std::vector<std::string_view> keys;
+  for (const settings::Setting& s : settings::all()) {
+    const std::size_t dot = s.scene_key.rfind('.');
+    if (!s.scene_key.empty() && dot != std::string_view::npos && s.scene_key.substr(0, dot) == table)
+      keys.push_back(s.scene_key.substr(dot + 1));
+  }
+  keys.insert(keys.end(), structural.begin(), structural.end());
+  return keys;
+}
+
+// Built on first use (the table of settings lives in another translation unit).
+struct SettingTables {
+  std::vector<std::string_view> time = setting_keys("time", {});
+  std::vector<std::string_view> formulation = setting_keys("formulation", {"euler_angles", "baumgarte", "projection"});
+  std::vector<std::string_view> euler_angles = setting_keys("formulation.euler_angles", {"convention"});
+  std::vector<std::string_view> baumgarte = setting_keys("formulation.baumgarte", {});
+  std::vector<std::string_view> projection = setting_keys("formulation.projection", {});
+  std::vector<std::string_view> solver = setting_keys("solver", {});
+};
 
 constexpr std::array<std::string_view, 4> kOrientationForms{"quaternion", "euler", "matrix",
                                                             "axis_angle"};
 
-// Used to point a key written in the wrong table to the right one.
-const std::array<SectionKeys, 13> kAllSections{{
-    {"", kRootKeys},
-    {"body", kBodyKeys},
-    {"support", kSupportKeys},
-    {"gravity", kGravityKeys},
-    {"initial", kInitialKeys},
-    {"initial.euler", kInitialEulerKeys},
-    {"initial.axis_angle", kAxisAngleKeys},
-    {"time", kTimeKeys},
-    {"formulation", kFormulationKeys},
-    {"formulation.euler_angles", kEulerAnglesKeys},
-    {"formulation.baumgarte", kBaumgarteKeys},
-    {"formulation.projection", kProjectionKeys},
-    {"solver", kSolverKeys},
-}};
+// Every table's keys, used to point a key written in the wrong table to the right one.
+struct Schema {
+  SettingTables settings;
+  std::array<SectionKeys, 13> sections{{
+      {"", kRootKeys},
+      {"body", kBodyKeys},
+      {"support", kSupportKeys},
+      {"gravity", kGravityKeys},
+      {"initial", kInitialKeys},
+      {"initial.euler", kInitialEulerKeys},
+      {"initial.axis_angle", kAxisAngleKeys},
+      {"time", settings.time},
+      {"formulation", settings.formulation},
+      {"formulation.euler_angles", settings.euler_angles},
+      {"formulation.baumgarte", settings.baumgarte},
+      {"formulation.projection", settings.projection},
+      {"solver", settings.solver},
+  }};
+};
+
+const Schema& schema() {
+  static const Schema s;
+  return s;
+}
 
 // Magnitudes beyond these are taken as input mistakes (wrong units, typos).
 constexpr double kMaxMass = 1e9;                 // kg
@@ -114,7 +136,7 @@ struct InertiaSource {
 
 InertiaSource read_body(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table& body = r.required_table(root, "", "body");
-  r.check_keys(body, "body", kBodyKeys, kAllSections);
+  r.check_keys(body, "body", kBodyKeys, schema().sections);
 
   const toml::node& mass_node = r.required(body, "body", "mass", "kg, > 0");
   const double mass = r.number(mass_node, "body.mass");
@@ -233,7 +255,7 @@ void check_triangle_inequality(const TomlReader& r, const InertiaSource& src, co
 void read_support(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* sup = r.optional_table(root, "", "support");
   if (!sup) return;
-  r.check_keys(*sup, "support", kSupportKeys, kAllSections);
+  r.check_keys(*sup, "support", kSupportKeys, schema().sections);
   if (const toml::node* t = sup->get("type")) {
     constexpr std::array<std::string_view, 2> opts{"fixed_point", "free"};
     scene.support = r.choice(*t, "support.type", opts) == 0 ? Support::FixedPoint : Support::Free;
@@ -243,7 +265,7 @@ void read_support(const TomlReader& r, const toml::table& root, Scene& scene) {
 void read_gravity(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* g = r.optional_table(root, "", "gravity");
   if (!g) return;
-  r.check_keys(*g, "gravity", kGravityKeys, kAllSections);
+  r.check_keys(*g, "gravity", kGravityKeys, schema().sections);
   if (const toml::node* a = g->get("acceleration")) {
     const Vec3 acc = r.vec3(*a, "gravity.acceleration");
     if (acc.norm() > kMaxGravity)
@@ -339,7 +361,7 @@ Mat3 read_orientation(const TomlReader& r, const toml::table& init) {
                                 "convention = \"intrinsic\", angles = [0.1, 0.2, 0.3] }}, not {}",
                                 type_name(*form)));
     const toml::table& e = *form->as_table();
-    r.check_keys(e, "initial.euler", kInitialEulerKeys, kAllSections);
+    r.check_keys(e, "initial.euler", kInitialEulerKeys, schema().sections);
     const toml::node& seq_node =
         r.required(e, "initial.euler", "sequence", "three axis letters such as \"zxz\" or \"zyx\"");
     const toml::node& angles_node =
@@ -356,7 +378,7 @@ Mat3 read_orientation(const TomlReader& r, const toml::table& init) {
                               "1.0], angle = 0.5 }}, not {}",
                               type_name(*form)));
   const toml::table& aa = *form->as_table();
-  r.check_keys(aa, "initial.axis_angle", kAxisAngleKeys, kAllSections);
+  r.check_keys(aa, "initial.axis_angle", kAxisAngleKeys, schema().sections);
   const toml::node& axis_node =
       r.required(aa, "initial.axis_angle", "axis", "[x, y, z], any non-zero length");
   const toml::node& angle_node = r.required(aa, "initial.axis_angle", "angle", "rad");
@@ -371,7 +393,7 @@ Mat3 read_orientation(const TomlReader& r, const toml::table& init) {
 
 void read_initial(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table& init = r.required_table(root, "", "initial");
-  r.check_keys(init, "initial", kInitialKeys, kAllSections);
+  r.check_keys(init, "initial", kInitialKeys, schema().sections);
   scene.R0_WB = read_orientation(r, init);
 
   const toml::node& w_node =
@@ -417,7 +439,7 @@ void read_settings(const TomlReader& r, const toml::table& t, std::string_view t
 
 void read_time(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table& t = r.required_table(root, "", "time");
-  r.check_keys(t, "time", kTimeKeys, kAllSections);
+  r.check_keys(t, "time", schema().settings.time, schema().sections);
   r.required(t, "time", "end", "s, > start");
   read_settings(r, t, "time", scene);
   // Unset, the grid has 100 intervals (settings::cross_problem checks the grid).
@@ -428,7 +450,7 @@ void read_time(const TomlReader& r, const toml::table& root, Scene& scene) {
 void read_euler_charts(const TomlReader& r, const toml::table& f, EulerChartSpec& euler, Scene& scene) {
   const toml::table* ea = r.optional_table(f, "formulation", "euler_angles");
   if (!ea) return;
-  r.check_keys(*ea, "formulation.euler_angles", kEulerAnglesKeys, kAllSections);
+  r.check_keys(*ea, "formulation.euler_angles", schema().settings.euler_angles, schema().sections);
   const bool extrinsic = read_convention(r, *ea, "formulation.euler_angles");
   read_settings(r, *ea, "formulation.euler_angles", scene);
   // The table reads the letters as intrinsic; extrinsic letters name the reversed sequence.
@@ -438,16 +460,15 @@ void read_euler_charts(const TomlReader& r, const toml::table& f, EulerChartSpec
 void read_formulation(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* f = r.optional_table(root, "", "formulation");
   if (!f) return;
-  r.check_keys(*f, "formulation", kFormulationKeys, kAllSections);
+  r.check_keys(*f, "formulation", schema().settings.formulation, schema().sections);
   read_settings(r, *f, "formulation", scene);
   read_euler_charts(r, *f, scene.formulation.euler, scene);
   for (const char* sub : {"baumgarte", "projection"}) {
     const std::string table = fmt::format("formulation.{}", sub);
     const toml::table* t = r.optional_table(*f, "formulation", sub);
     if (!t) continue;
-    r.check_keys(*t, table, sub[0] == 'b' ? std::span<const std::string_view>(kBaumgarteKeys)
-                                          : std::span<const std::string_view>(kProjectionKeys),
-                 kAllSections);
+    r.check_keys(*t, table, sub[0] == 'b' ? schema().settings.baumgarte : schema().settings.projection,
+                 schema().sections);
     read_settings(r, *t, table, scene);
   }
 }
@@ -455,7 +476,7 @@ void read_formulation(const TomlReader& r, const toml::table& root, Scene& scene
 void read_solver(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* s = r.optional_table(root, "", "solver");
   if (!s) return;
-  r.check_keys(*s, "solver", kSolverKeys, kAllSections);
+  r.check_keys(*s, "solver", schema().settings.solver, schema().sections);
   read_settings(r, *s, "solver", scene);
 }
 
@@ -498,14 +519,14 @@ Scene read_scene(const TomlReader& r, const toml::table& root) {
   // The version first: a file of another version should fail on that, not on
   // the keys it renamed.
   // (Unless it is missing: then a misspelt key is the likelier cause.)
-  if (!root.get("schema_version")) r.check_keys(root, "", kRootKeys, kAllSections);
+  if (!root.get("schema_version")) r.check_keys(root, "", kRootKeys, schema().sections);
   const toml::node& ver = r.required(root, "", "schema_version", "schema_version = 1");
   const long long version = r.integer(ver, "schema_version");
   if (version != kSchemaVersion)
     r.fail(ver, fmt::format("unsupported schema_version {}; this version of rigidae reads "
                             "schema_version = {}",
                             version, kSchemaVersion));
-  r.check_keys(root, "", kRootKeys, kAllSections);
+  r.check_keys(root, "", kRootKeys, schema().sections);
 
   scene.name = std::filesystem::path(r.file()).stem().string();
   if (const toml::node* n = root.get("name")) {

@@ -58,7 +58,7 @@ constexpr std::array<ReferenceKind, 3> kReferences{ReferenceKind::Auto, Referenc
 constexpr std::string_view kRtolWhy =
     "below 1e-14 round-off in double precision exceeds the tolerance and the step size collapses";
 
-const std::vector<Setting> kTable = [] {
+std::vector<Setting> make_table() {
   std::vector<Setting> t;
   auto row = [&](Setting s) { t.push_back(std::move(s)); };
 
@@ -230,10 +230,13 @@ const std::vector<Setting> kTable = [] {
   row({.option = "--quiet", .commands = kSolve | kCompare | kStudy, .kind = Kind::Boolean, .flag_value = "true",
        .default_text = "off", .help = "no progress lines; solve prints nothing on success"});
   return t;
-}();
+}
 
 }  // namespace
 
-std::span<const Setting> all() { return kTable; }
+std::span<const Setting> all() {
+  static const std::vector<Setting> table = make_table();  // built on first use: safe from other statics
+  return table;
+}
 
 }  // namespace rigidae::settings
