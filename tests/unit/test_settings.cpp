@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <fstream>
 #include <cmath>
 #include <map>
 #include <optional>
@@ -14,6 +15,7 @@
 
 #include "cli_runner.hpp"
 #include "rigidae/app/command_line.hpp"
+#include "rigidae/app/study.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/settings/settings.hpp"
@@ -240,4 +242,29 @@ TEST_CASE("cli: misspelt options, values, commands and subcommands get a suggest
     CHECK(r.exit_code == 2);
     CHECK(r.output.find(c.message) != std::string::npos);
   }
+}
+
+TEST_CASE("settings: a study file refuses what the command line refuses, in the same words") {
+  const fs::path dir = rigidae::test::fresh_temp_dir("study_settings");
+  auto study_error = [&](const std::string& body) {
+    const fs::path file = dir / "s.toml";
+    std::ofstream(file) << "schema_version = 1\nscenes = [\"" << kHeavyTop << "\"]\n" << body;
+    try {
+      rigidae::load_study(file.string());
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK(after(study_error("[grid]\nrtol = [1e-6, 1e-16]\n"), "'grid.rtol[1]' = ") ==
+        after(cli_error({"--rtol", "1e-16"}), "option --rtol: "));
+  CHECK(after(study_error("[grid]\nrtol = [1e-6]\natol = 2.0\n"), "'grid.atol' = ") ==
+        after(cli_error({"--atol=2"}), "option --atol: "));
+  CHECK(after(study_error("reference_rtol = 1e-16\n[grid]\nrtol = [1e-6]\n"), "'reference_rtol' = ") ==
+        after(cli_error({"--reference-rtol", "1e-16"}, "compare"), "option --reference-rtol: "));
+  CHECK(after(study_error("reference = \"tigth\"\n[grid]\nrtol = [1e-6]\n"), "'reference' = ") ==
+        after(cli_error({"--reference", "tigth"}, "compare"), "option --reference: "));
+  CHECK(after(study_error("[grid]\nrtol = [1e-6]\n[timing]\nrepeats = 0\n"), "'timing.repeats' = ") ==
+        after(cli_error({"--repeat", "0"}, "compare"), "option --repeat: "));
+  fs::remove_all(dir);
 }
