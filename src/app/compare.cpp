@@ -14,6 +14,7 @@
 #include "rigidae/app/accuracy.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/io/checked_file.hpp"
+#include "rigidae/record/columns.hpp"
 #include "rigidae/record/trajectory_csv.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 #include "rigidae/schemes/scheme.hpp"
@@ -125,7 +126,7 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
     row.lambda_min = row.lambda_max = row.mu_abs_max = kNaN;
     const RunExtremes& x = row.outcome.extremes;
     for (std::size_t i = 0; i < row.outcome.multiplier_names.size() && x.steps_recorded > 0; ++i) {
-      const bool force = row.outcome.multiplier_names[i].rfind("lambda_", 0) == 0;
+      const bool force = columns::is_force_multiplier(row.outcome.multiplier_names[i]);
       const int j = static_cast<int>(i);
       if (force) {
         row.lambda_min = std::isnan(row.lambda_min) ? x.multiplier_min(j) : std::min(row.lambda_min, x.multiplier_min(j));

@@ -6,12 +6,16 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <algorithm>
+#include <variant>
 #include <nlohmann/json.hpp>
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/dae/dae_system.hpp"
 #include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/io/checked_file.hpp"
+#include "rigidae/record/columns.hpp"
+#include "rigidae/settings/settings.hpp"
 #include "rigidae/so3/rotation.hpp"
 
 namespace rigidae {
@@ -26,11 +30,10 @@ nlohmann::json mat_json(const Mat3& M) {
   return {vec_json(M.row(0).transpose()), vec_json(M.row(1).transpose()), vec_json(M.row(2).transpose())};
 }
 
+// The scene's body and initial state, then every run setting of the table
+// (rigidae/settings) at its dotted key, defaults resolved as the run uses them.
 nlohmann::json configuration_json(const Scene& s) {
-  nlohmann::json euler = {{"sequence", s.formulation.euler.sequence ? s.formulation.euler.sequence->name() : "auto"},
-                          {"switching", s.formulation.euler.switching},
-                          {"switch_threshold", s.formulation.euler.switch_threshold}};
-  return {
+  nlohmann::json j = {
       {"scene", s.source},
       {"name", s.name},
       {"body",
@@ -40,25 +43,29 @@ nlohmann::json configuration_json(const Scene& s) {
       {"support", s.support == Support::FixedPoint ? "fixed_point" : "free"},
       {"gravity_m_s2", vec_json(s.gravity_W)},
       {"initial", {{"R_WB", mat_json(s.R0_WB)}, {"omega_B_rad_s", vec_json(s.omega0_B)}}},
-      {"time_s", {{"start", s.time.start}, {"end", s.time.end}, {"output_step", s.time.output_step}}},
-      {"formulation",
-       {{"coordinates", to_string(s.formulation.coordinates)},
-        {"equations", to_string(s.formulation.equations)},
-        {"scheme", s.formulation.scheme},
-        {"euler_angles", euler},
-        {"baumgarte", {{"a", baumgarte_gains(s).first}, {"b", baumgarte_gains(s).second}}},
-        {"projection",
-         {{"when", s.formulation.projection.every_step ? "every_step" : "threshold"},
-          {"threshold", projection_threshold(s)}}}}},
-      {"solver",
-       {{"rtol", s.solver.rtol},
-        {"atol", s.solver.atol},
-        {"max_steps", s.solver.max_steps},
-        {"max_order", s.solver.max_order},
-        {"initial_step", s.solver.initial_step},
-        {"linear_solver", s.solver.linear_solver},
-        {"jacobian", s.solver.jacobian}}},
   };
+  for (const settings::Setting& setting : settings::all()) {
+    if (setting.scene_key.empty() || !setting.get) continue;
+    nlohmann::json value;
+    std::visit([&](const auto& v) { value = v; }, setting.get(s));
+    std::string pointer = "/" + std::string(setting.scene_key);
+    std::replace(pointer.begin(), pointer.end(), '.', '/');
+    j[nlohmann::json::json_pointer(pointer)] = value;
+  }
+  return j;
+}
+
+// The last observation as the columns of trajectory.csv (record/columns.hpp).
+nlohmann::json final_row_json(const Observation& o, const std::vector<std::string>& multiplier_names) {
+  nlohmann::json j = nlohmann::json::object();
+  const columns::Sample sample{o.t, 0.0, 0, &o, {}};
+  for (const columns::Column& c : columns::all()) {
+    if (!(c.files & columns::kTrajectory)) continue;
+    if (c.kind == columns::Kind::Real) j[std::string(c.name)] = c.value(sample);
+    if (c.kind == columns::Kind::Multipliers)
+      for (std::size_t i = 0; i < multiplier_names.size(); ++i) j[multiplier_names[i]] = o.multipliers(static_cast<int>(i));
+  }
+  return j;
 }
 
 // JSON has no NaN: a measure not checked is null.
@@ -147,6 +154,8 @@ void write_summary(const std::filesystem::path& path, const Scene& scene, const 
         {"energy_rel_error", f.energy_error},
         {"vertical_momentum", f.vertical_momentum},
         {"vertical_momentum_rel_error", f.vertical_momentum_error}}},
+      {"final_row", final_row_json(f, o.multiplier_names)},
+      {"columns_units", columns::units_line().substr(2)},
   };
   // A path from the command line need not be UTF-8; JSON must be: invalid bytes become U+FFFD.
   write_file_atomically(path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + '\n');

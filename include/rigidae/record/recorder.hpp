@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "rigidae/io/checked_file.hpp"
+#include "rigidae/record/columns.hpp"
 #include "rigidae/record/observation.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 
@@ -59,8 +60,8 @@ class RunRecorder final : public StepSink {
   const std::vector<std::string>& multiplier_names() const { return multiplier_names_; }
 
  private:
-  // Appends o's columns to the row started in b, then writes the row.
-  void write_observation(CheckedStream& f, const Observation& o, fmt::memory_buffer& b);
+  // One row of `file` from the table of columns (record/columns.hpp).
+  void write_row(CheckedStream& f, columns::File file, const columns::Sample& sample);
 
   const DaeSystem& dae_;
   std::vector<std::string> multiplier_names_;
