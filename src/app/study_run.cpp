@@ -157,6 +157,13 @@ json run_record(const StudySpec& spec, const StudyRun& run, const SolveOutcome& 
         {"scd", number(acc.scd)},
         {"mescd", number(acc.mescd)},
         {"points_compared", acc.points_compared}}},
+      {"warning_summary", warnings_cell(o.warnings)},
+      {"warnings", [&] {
+         json a = json::array();
+         for (const AccuracyWarning& w : o.warnings)
+           a.push_back({{"quantity", w.quantity}, {"drift", w.drift}, {"limit", w.limit}, {"message", w.message}});
+         return a;
+       }()},
       {"reference", ref.describe()},
       {"reference_accuracy_rad", number(ref.accuracy_rad)},
   };
