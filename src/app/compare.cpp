@@ -103,6 +103,12 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
                                     opt.reference_rtol.value_or(default_reference_rtol(scene.solver.rtol)),
                                     opt.out, say);
   const ReferenceTrajectory& ref = report.reference;
+  auto drop_steps = [&](const std::filesystem::path& dir) {
+    std::error_code ec;
+    if (!opt.keep_steps) std::filesystem::remove(dir / "steps.csv", ec);
+  };
+  drop_steps(opt.out / "reference");
+  drop_steps(opt.out / "reference-check");
 
   const int total = static_cast<int>(selected.size());
   for (int k = 0; k < total; ++k) {
@@ -119,6 +125,7 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
 
     row.accuracy = measure_accuracy(s, read_trajectory_csv(dir / "trajectory.csv"), ref,
                                     row.outcome.run.status == RunStatus::Success);
+    drop_steps(dir);
     row.error_final_rad = row.accuracy.orientation_rad.final;
     row.error_max_rad = row.accuracy.orientation_rad.max;
 

@@ -206,6 +206,7 @@ bool run_study(const StudySpec& spec, const std::vector<StudyRun>& runs, const S
     }
     const RunAccuracy acc = measure_accuracy(scene, read_trajectory_csv(tmp / "trajectory.csv"), *ref,
                                              outcome.run.status == RunStatus::Success);
+    if (!opt.keep_steps) fs::remove(tmp / "steps.csv", ec);  // summaries and grids always stay
     // run.json marks the run complete: written last, whole or not at all.
     write_file_atomically(tmp / "run.json", run_record(spec, run, outcome, wall, acc, *ref).dump(2) + "\n");
     replace_incomplete(final_path, "run.json");

@@ -10,6 +10,7 @@
 #include "rigidae/app/compare.hpp"
 #include "rigidae/core/error.hpp"
 #include "plot_script.hpp"
+#include "output_folder.hpp"
 #include "scene_options.hpp"
 
 namespace rigidae::cli {
@@ -30,6 +31,9 @@ const char* kCompareHelp = R"(Options of 'compare' (runs every applicable coordi
                           rtol/100, clamped to [1e-13, 1e-12])
   --out DIR               output folder (default: out/NAME-compare)
   --plot                  draw figures with tools/plot_compare.py into DIR/figures
+                          (keeps the step files, which the figures read)
+  --keep-steps            keep each run's steps.csv (default: only summary.json,
+                          trajectory.csv and events.csv stay)
   --quiet                 no progress lines, no table on stdout
   and every scene override of 'solve' except --coordinates/--equations/--scheme.
 Exit code 0 when every run finished, failed combinations included (they are
@@ -54,7 +58,8 @@ int compare_command(const std::vector<std::string>& args) {
   bool quiet = false, plot = false;
   const Scene scene = parse_command_line(args, "compare", [&](const std::string& a, const NextValue& value) {
     if (a == "--quiet") quiet = true;
-    else if (a == "--plot") plot = true;
+    else if (a == "--plot") plot = opt.keep_steps = true;
+    else if (a == "--keep-steps") opt.keep_steps = true;
     else if (a == "--out") opt.out = value();
     else if (a == "--repeat") {
       const long n = parse_count(a, value());
@@ -76,9 +81,7 @@ int compare_command(const std::vector<std::string>& args) {
   });
   if (opt.out.empty()) opt.out = std::filesystem::path("out") / fmt::format("{}-compare", scene.name.empty() ? "scene" : scene.name);
 
-  std::error_code ec;
-  std::filesystem::create_directories(opt.out, ec);
-  if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", opt.out.string(), ec.message()));
+  create_output_folder(opt.out, /*disposable=*/false);
 
   const CompareReport report = compare_scene(scene, opt, [&](const std::string& line) {
     if (!quiet) fmt::print(stderr, "{}\n", line);

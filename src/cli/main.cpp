@@ -11,6 +11,7 @@
 #include "rigidae/io/checked_file.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/solver/ida_driver.hpp"
+#include "output_folder.hpp"
 #include "scene_options.hpp"
 
 namespace {
@@ -84,6 +85,7 @@ int main(int argc, char** argv) {
   try {
     return run(argc, argv);
   } catch (const InputError& e) {
+    cli::remove_rejected_output_folders();
     // Scene-file errors already read "FILE:LINE:COL: error: ..."
     const std::string msg = e.what();
     fmt::print(stderr, "{}{}\n", msg.find(": error: ") == std::string::npos ? "rigidae: error: " : "", msg);

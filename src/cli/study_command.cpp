@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "commands.hpp"
+#include "output_folder.hpp"
 #include "plot_script.hpp"
 #include "rigidae/app/study.hpp"
 #include "rigidae/core/error.hpp"
@@ -28,6 +29,8 @@ Options of 'study':
   --run ID                (run) one run, by the id 'list' prints
   --no-plot               (collect) skip the figures (tools/plot_study.py)
   --partial               (collect) exit 0 even if some runs are missing
+  --keep-steps            (run) keep each run's steps.csv (default: only
+                          run.json, summary.json and the grids stay)
   --quiet                 no progress on stderr
 A complete run (its folder holds run.json) is never redone: rerun the same
 command to resume an interrupted study. Exit codes: 0 done, 1 interrupted or
@@ -45,7 +48,7 @@ struct StudyCommandLine {
   fs::path out;
   std::optional<Shard> shard;
   std::string run_id;
-  bool plot = true, partial = false, quiet = false;
+  bool plot = true, partial = false, quiet = false, keep_steps = false;
 };
 
 StudyCommandLine parse(const std::vector<std::string>& args) {
@@ -64,9 +67,10 @@ StudyCommandLine parse(const std::vector<std::string>& args) {
     else if (a == "--no-plot") c.plot = false;
     else if (a == "--partial") c.partial = true;
     else if (a == "--quiet") c.quiet = true;
+    else if (a == "--keep-steps") c.keep_steps = true;
     else if (!a.empty() && a[0] == '-')
       throw InputError(fmt::format("unknown option '{}' for study; valid: --out, --shard, --run, --no-plot, "
-                                   "--partial, --quiet (see rigidae --help)", a));
+                                   "--partial, --quiet, --keep-steps (see rigidae --help)", a));
     else if (c.file.empty()) c.file = a;
     else throw InputError(fmt::format("unexpected argument '{}': study takes one study file", a));
   }
@@ -135,8 +139,7 @@ int study_command(const std::vector<std::string>& args) {
   const StudySpec spec = load_study(c.file);
   if (c.out.empty()) c.out = fs::path("out") / spec.name;
   std::error_code ec;
-  fs::create_directories(c.out, ec);
-  if (ec) throw InputError(fmt::format("{}: cannot create the study folder: {}", c.out.string(), ec.message()));
+  create_output_folder(c.out, /*disposable=*/false);
 
   const std::vector<StudyRun> plan = plan_study(spec);
   if (c.action == "list") {
@@ -165,6 +168,7 @@ int study_command(const std::vector<std::string>& args) {
   ProgressLine progress(c.quiet);
   StudyRunOptions opt;
   opt.out = c.out;
+  opt.keep_steps = c.keep_steps;
   opt.progress = [&](const StudyProgress& p) { progress.update(p); };
   if (!run_study(spec, todo, opt)) {
     fmt::print(stderr, "\nrigidae: study interrupted; complete runs are kept, rerun the same command to resume\n");
