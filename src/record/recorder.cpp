@@ -45,12 +45,12 @@ CsvStream::~CsvStream() {
 
 void CsvStream::flush() { std::fflush(f_); }
 
-RunRecorder::RunRecorder(const DaeSystem& dae, const Scene& scene, const std::filesystem::path& out_dir)
-    : dae_(dae),
-      multiplier_names_(dae.multiplier_names()),
-      with_chart_(dae.representation().has_charts()),
-      step_observer_(dae, scene),
-      grid_observer_(dae, scene),
+RunRecorder::RunRecorder(const SingleBodyProblem& problem, const Scene& scene, const std::filesystem::path& out_dir)
+    : problem_(problem),
+      multiplier_names_(problem.system().multiplier_names()),
+      with_chart_(problem.representation().has_charts()),
+      step_observer_(problem.system(), scene),
+      grid_observer_(problem.system(), scene),
       steps_(out_dir / "steps.csv", kUnits,
              "t,h,order," + observation_columns(multiplier_names_) + (with_chart_ ? ",chart" : "")),
       trajectory_(out_dir / "trajectory.csv", kUnits,
@@ -90,7 +90,7 @@ void RunRecorder::write_observation(std::FILE* f, const Observation& o, fmt::mem
   put(b, o.vertical_momentum_error);
   if (with_chart_) {
     b.push_back(',');
-    const std::string chart = dae_.representation().chart_name();
+    const std::string chart = problem_.representation().chart_name();
     b.append(chart.data(), chart.data() + chart.size());
   }
   b.push_back('\n');
@@ -98,7 +98,7 @@ void RunRecorder::write_observation(std::FILE* f, const Observation& o, fmt::mem
 }
 
 void RunRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& y) {
-  const Observation o = step_observer_.observe(t, y);
+  const Observation o = step_observer_.observe(t, y, problem_.chart());
   fmt::memory_buffer b;  // on the stack: recording a step allocates nothing
   put(b, t, 0);
   put(b, h);
@@ -116,7 +116,7 @@ void RunRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& 
 }
 
 void RunRecorder::on_output(double t, const Eigen::VectorXd& y) {
-  const Observation o = grid_observer_.observe(t, y);
+  const Observation o = grid_observer_.observe(t, y, problem_.chart());
   fmt::memory_buffer b;
   put(b, t, 0);
   write_observation(trajectory_.file(), o, b);

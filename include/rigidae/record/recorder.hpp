@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/record/observation.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 
@@ -45,7 +46,8 @@ class CsvStream {
 
 class RunRecorder final : public StepSink {
  public:
-  RunRecorder(const DaeSystem& dae, const Scene& scene, const std::filesystem::path& out_dir);
+  // Observes the problem's states in its current chart.
+  RunRecorder(const SingleBodyProblem& problem, const Scene& scene, const std::filesystem::path& out_dir);
 
   void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
   void on_output(double t, const Eigen::VectorXd& y) override;
@@ -59,7 +61,7 @@ class RunRecorder final : public StepSink {
   // Appends o's columns to the row started in b, then writes the row.
   void write_observation(std::FILE* f, const Observation& o, fmt::memory_buffer& b);
 
-  const DaeSystem& dae_;
+  const SingleBodyProblem& problem_;
   std::vector<std::string> multiplier_names_;
   bool with_chart_;
   Observer step_observer_, grid_observer_;
