@@ -1,16 +1,17 @@
 #include "rigidae/app/solve.hpp"
 
 #include <fmt/format.h>
-#include <sundials/sundials_config.h>
 
 #include <chrono>
 #include <fstream>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/dae/dae_system.hpp"
 #include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/so3/rotation.hpp"
+#include "rigidae/solver/version.hpp"
 
 namespace rigidae {
 
@@ -24,7 +25,17 @@ nlohmann::json mat_json(const Mat3& M) {
   return {vec_json(M.row(0).transpose()), vec_json(M.row(1).transpose()), vec_json(M.row(2).transpose())};
 }
 
-nlohmann::json configuration_json(const Scene& s) {
+// A parameter as the scheme used it; a scheme that does not use it leaves
+// the scene's setting (null when unset: the default is resolved by the
+// scheme that uses it).
+nlohmann::json used_or_set(const std::vector<SchemeParameter>& used, const std::string& name,
+                           const std::optional<double>& set) {
+  for (const auto& p : used)
+    if (p.name == name) return p.value;
+  return set ? nlohmann::json(*set) : nlohmann::json(nullptr);
+}
+
+nlohmann::json configuration_json(const Scene& s, const std::vector<SchemeParameter>& used) {
   nlohmann::json euler = {{"sequence", s.formulation.euler.sequence ? s.formulation.euler.sequence->name() : "auto"},
                           {"switching", s.formulation.euler.switching},
                           {"switch_threshold", s.formulation.euler.switch_threshold}};
@@ -44,10 +55,12 @@ nlohmann::json configuration_json(const Scene& s) {
         {"equations", to_string(s.formulation.equations)},
         {"scheme", s.formulation.scheme},
         {"euler_angles", euler},
-        {"baumgarte", {{"a", baumgarte_gains(s).first}, {"b", baumgarte_gains(s).second}}},
+        {"baumgarte",
+         {{"a", used_or_set(used, "a", s.formulation.baumgarte.a)},
+          {"b", used_or_set(used, "b", s.formulation.baumgarte.b)}}},
         {"projection",
          {{"when", s.formulation.projection.every_step ? "every_step" : "threshold"},
-          {"threshold", projection_threshold(s)}}}}},
+          {"threshold", used_or_set(used, "threshold", s.formulation.projection.threshold)}}}}},
       {"solver",
        {{"rtol", s.solver.rtol},
         {"atol", s.solver.atol},
@@ -74,11 +87,11 @@ void write_summary(const std::filesystem::path& path, const Scene& scene, const 
 
   nlohmann::json j = {
       {"units", "SI: s, rad, rad/s, J, kg m^2/s; quaternions scalar first, R_WB body to space"},
-      {"configuration", configuration_json(scene)},
+      {"configuration", configuration_json(scene, o.scheme_parameters)},
       {"representation", o.representation},
       {"scheme", o.scheme},
       {"note", o.note},
-      {"versions", {{"rigidae", RIGIDAE_VERSION}, {"sundials", SUNDIALS_VERSION},
+      {"versions", {{"rigidae", RIGIDAE_VERSION}, {"sundials", sundials_version()},
                     {"eigen", fmt::format("{}.{}.{}", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION)}}},
       {"status", to_string(o.run.status)},
       {"message", o.run.message},
@@ -144,6 +157,7 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
   o.scheme = dae->scheme().name();
   o.note = dae->scheme().note(dae->representation());
   o.multiplier_names = dae->multiplier_names();
+  o.scheme_parameters = dae->scheme().parameters();
 
   SingleBodyProblem problem(*dae, scene.formulation.euler, scene.R0_WB, scene.omega0_B, scene.source);
   RunRecorder recorder(problem, scene, out_dir);

@@ -7,6 +7,7 @@
 
 #include "rigidae/model/scene.hpp"
 #include "rigidae/record/recorder.hpp"
+#include "rigidae/schemes/scheme.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 
 namespace rigidae {
@@ -18,6 +19,7 @@ struct SolveOutcome {
   std::filesystem::path out_dir;
   std::string representation, scheme, note;
   std::vector<std::string> multiplier_names;
+  std::vector<SchemeParameter> scheme_parameters;  // as the scheme used them
 };
 
 // Writes steps.csv, trajectory.csv, events.csv and summary.json into
