@@ -13,8 +13,8 @@ link(k-1) and link(k) at ((k - 1) L, 0, 0).
              --spin rad/s (every joint's velocity condition holds: the links
              share one angular velocity and each centre moves at w x r), so
              it falls and swings in 3D.
-Gravity -9.81 m/s^2 along z. The file stays under the scene size limit
-(1 MiB) up to N = 1000 and beyond (about 330 bytes per link).
+Gravity -9.81 m/s^2 along z. About 340 bytes per link: the file stays
+under the loader's scene size limit (1 MiB) up to about 3000 links.
 """
 import argparse
 import pathlib
@@ -112,7 +112,11 @@ def main() -> None:
         sys.exit("make_chain.py: --length, --mass, --end and --output-step must be > 0")
     out = pathlib.Path(args.out or pathlib.Path(__file__).resolve().parent.parent / "problems" / f"chain_{args.links}.toml")
     out.write_text(chain(args.links, args.joint, args.length, args.mass, args.spin, args.end, args.output_step))
-    print(f"{out}: {args.links} links, {args.joint} joints, {out.stat().st_size} bytes")
+    size = out.stat().st_size
+    print(f"{out}: {args.links} links, {args.joint} joints, {size} bytes")
+    if size > 1 << 20:
+        print(f"make_chain.py: warning: {out} is larger than the 1 MiB (1048576 bytes) a scene file may have; "
+              "rigidae will refuse it", file=sys.stderr)
 
 
 if __name__ == "__main__":
