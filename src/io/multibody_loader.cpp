@@ -114,7 +114,7 @@ std::string item(std::string_view array, std::size_t i) { return fmt::format("{}
 
 std::string lowercase(std::string_view s) {
   std::string out(s);
-  for (char& c : out) c = lower(c);
+  for (char& c : out) c = text::lower(c);
   return out;
 }
 
@@ -245,6 +245,7 @@ class MultibodyReader {
     read_time(r_, root_, scene);
     read_formulation(r_, root_, scene);
     read_solver(r_, root_, scene);
+    check_settings_together(r_, root_, scene);
     read_reference(scene);
     scene.multibody = std::move(spec);
     return scene;
@@ -778,8 +779,7 @@ class MultibodyReader {
   void read_reference(Scene& scene) const {
     const toml::node* n = root_.get("reference");
     if (!n) return;
-    static constexpr std::array<std::string_view, 3> kKinds{"auto", "exact", "tight"};
-    scene.reference = static_cast<ReferenceKind>(r_.choice(*n, "reference", kKinds));
+    read_top_level_settings(r_, root_, scene);
     if (scene.reference == ReferenceKind::Exact)
       r_.fail(*n, "'reference' = \"exact\" but a scene of bodies and joints has no closed-form solution (use "
                   "\"auto\" or \"tight\" for a tight run)");

@@ -27,6 +27,10 @@ void read_gravity(const TomlReader& r, const toml::table& root, Scene& scene);
 void read_time(const TomlReader& r, const toml::table& root, Scene& scene);
 void read_formulation(const TomlReader& r, const toml::table& root, Scene& scene);
 void read_solver(const TomlReader& r, const toml::table& root, Scene& scene);
+// The settings at the top level (`reference`), and the checks between
+// settings (after all of them are read).
+void read_top_level_settings(const TomlReader& r, const toml::table& root, Scene& scene);
+void check_settings_together(const TomlReader& r, const toml::table& root, const Scene& scene);
 
 // Mass and inertia about the centre of mass of a body table. `table` is the
 // table's name in the schema (for key checks), `prefix` names the values in
