@@ -3,6 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "rigidae/core/error.hpp"
 
 namespace rigidae {
 
@@ -181,6 +186,12 @@ int DaeSystem::change_chart(int chart, double t, Eigen::VectorXd& y, Eigen::Vect
 }
 
 std::unique_ptr<DaeSystem> assemble_dae(const Scene& scene) {
+  // One body only: a scene of bodies and joints must never run as the
+  // default body its Scene::body holds.
+  if (scene.multibody)
+    throw InputError(fmt::format("{}: error: this scene has bodies and joints (schema_version = 2); the "
+                                 "one-body model cannot run it, and this build has no multibody assembler",
+                                 scene.source.empty() ? std::string("scene") : scene.source));
   const RigidBodyModel body = make_rigid_body_model(scene);
   return std::make_unique<DaeSystem>(scene, make_representation(scene, body),
                                      make_scheme(scene.formulation.scheme, scene));

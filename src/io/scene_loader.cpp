@@ -1,5 +1,8 @@
-// Scene files: TOML, schema_version 1. The format is documented key by key in
-// docs/scene_format.md; this file is its only implementation.
+// Scene files: TOML, schema_version 1 (one body). The format is documented
+// key by key in docs/scene_format.md; this file is its only implementation.
+// A file with schema_version = 2 (bodies and joints) is handed to
+// multibody_loader.cpp, which shares this file's readers of the common tables
+// (scene_sections.hpp).
 //
 // Every problem is reported as an InputError whose message starts with
 // "FILE:LINE:COL: error: " (the position of the offending key or value, or of
@@ -32,6 +35,7 @@
 #include "rigidae/settings/settings.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
 #include "rigidae/so3/rotation.hpp"
+#include "scene_sections.hpp"
 #include "toml_reader.hpp"
 
 namespace rigidae::io {
@@ -43,6 +47,7 @@ namespace {
 
 
 constexpr int kSchemaVersion = 1;
+constexpr int kMultibodySchemaVersion = 2;  // bodies and joints: multibody_loader.cpp
 
 constexpr std::array<std::string_view, 11> kRootKeys{
     "schema_version", "name", "description", "body", "support",
@@ -107,6 +112,19 @@ const Schema& schema() {
   return s;
 }
 
+// The tables both schemas share ([gravity], [time], [formulation...],
+// [solver]), for pointing misplaced keys of a schema-2 file to the right table.
+std::span<const SectionKeys> shared_sections_impl() {
+  static const std::vector<SectionKeys> shared = [] {
+    std::vector<SectionKeys> v;
+    for (const SectionKeys& s : schema().sections)
+      if (s.name == "gravity" || s.name == "time" || s.name == "solver" || s.name.rfind("formulation", 0) == 0)
+        v.push_back(s);
+    return v;
+  }();
+  return shared;
+}
+
 // Magnitudes beyond these are taken as input mistakes (wrong units, typos).
 constexpr double kMaxMass = 1e9;                 // kg
 constexpr double kMaxAngularVelocity = 1e6;      // rad/s
@@ -132,66 +150,81 @@ std::string fmt_vec6(const Vec3& v) { return fmt::format("({:.6g}, {:.6g}, {:.6g
 // Where the inertia came from, for messages about it once the support is known.
 struct InertiaSource {
   const toml::node* node = nullptr;
-  const char* name = "";
+  std::string name;
 };
 
-InertiaSource read_body(const TomlReader& r, const toml::table& root, Scene& scene) {
-  const toml::table& body = r.required_table(root, "", "body");
-  r.check_keys(body, "body", kBodyKeys, schema().sections);
-
-  const toml::node& mass_node = r.required(body, "body", "mass", "kg, > 0");
-  const double mass = r.number(mass_node, "body.mass");
+// The mass and the inertia about the centre of mass of one body table
+// (schema 1: [body]; schema 2: each [[bodies]] entry). `prefix` names the
+// values in messages ("body", "bodies[2]").
+detail::MassInertia read_mass_inertia_impl(const TomlReader& r, const toml::table& body, std::string_view table,
+                                   std::string_view prefix) {
+  detail::MassInertia out;
+  const std::string label = prefix == table ? table_label(table) : std::string(prefix);
+  const std::string mass_name = join_key(prefix, "mass");
+  const toml::node& mass_node = r.required(body, table, "mass", "kg, > 0");
+  const double mass = r.number(mass_node, mass_name);
   if (!(mass > 0.0) || mass >= kMaxMass)
-    r.fail(mass_node, fmt::format("'body.mass' must be > 0 and < {:g} kg, got {}", kMaxMass, mass));
-  scene.body.mass = mass;
+    r.fail(mass_node, fmt::format("'{}' must be > 0 and < {:g} kg, got {}", mass_name, kMaxMass, mass));
+  out.mass = mass;
 
   const toml::node* principal = body.get("inertia_principal");
   const toml::node* full = body.get("inertia");
+  const std::string principal_name = join_key(prefix, "inertia_principal");
+  const std::string full_name = join_key(prefix, "inertia");
   if (principal && full) {
     const toml::node& later = before(principal->source().begin, full->source().begin) ? *full : *principal;
-    r.fail(later, "give either 'body.inertia_principal' or 'body.inertia', not both");
+    r.fail(later, fmt::format("give either '{}' or '{}', not both", principal_name, full_name));
   }
   if (!principal && !full)
     r.fail(body.source(),
-           "missing the inertia in [body]: give 'inertia_principal = [J1, J2, J3]' (kg m^2, "
-           "principal moments about the centre of mass along the body axes) or "
-           "'inertia = [[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]]'");
+           fmt::format("missing the inertia in {}: give 'inertia_principal = [J1, J2, J3]' (kg m^2, "
+                       "principal moments about the centre of mass along the body axes) or "
+                       "'inertia = [[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]]'",
+                       label));
 
-  Vec3 moments;
-  const toml::node* inertia_node = principal ? principal : full;
-  const char* inertia_name = principal ? "body.inertia_principal" : "body.inertia";
+  out.node = principal ? principal : full;
+  out.name = principal ? principal_name : full_name;
   if (principal) {
-    moments = r.vec3(*principal, inertia_name);
+    const Vec3 moments = r.vec3(*principal, out.name);
     const toml::array& a = *principal->as_array();
     for (int i = 0; i < 3; ++i)
       if (!(moments[i] > 0.0))
         r.fail(*a.get(i), fmt::format("'{}[{}]' must be > 0 (a principal moment of inertia), got {}",
-                                      inertia_name, i, moments[i]));
-    scene.body.inertia_com = moments.asDiagonal();
+                                      out.name, i, moments[i]));
+    out.inertia_com = moments.asDiagonal();
   } else {
     std::array<std::array<const toml::node*, 3>, 3> el{};
-    Mat3 I = r.mat3(*full, inertia_name, &el);
+    Mat3 I = r.mat3(*full, out.name, &el);
     const double scale = I.cwiseAbs().maxCoeff();
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < i; ++j) {
         const double asym = std::abs(I(i, j) - I(j, i));
         if (asym > kInertiaSymmetryTol * scale)
           r.fail(*el[i][j],
-                 fmt::format("'body.inertia' must be symmetric: element [{}][{}] = {} differs from "
+                 fmt::format("'{}' must be symmetric: element [{}][{}] = {} differs from "
                              "[{}][{}] = {} (relative difference {:.3g} > {:g})",
-                             i, j, I(i, j), j, i, I(j, i), scale > 0 ? asym / scale : 0.0,
+                             out.name, i, j, I(i, j), j, i, I(j, i), scale > 0 ? asym / scale : 0.0,
                              kInertiaSymmetryTol));
       }
     }
     I = 0.5 * (I + I.transpose()).eval();
     Eigen::SelfAdjointEigenSolver<Mat3> eig(I);
-    moments = eig.eigenvalues();
+    const Vec3 moments = eig.eigenvalues();
     if (!(moments.minCoeff() > 0.0))
-      r.fail(*full, fmt::format("'body.inertia' must be positive definite; its principal moments "
+      r.fail(*full, fmt::format("'{}' must be positive definite; its principal moments "
                                 "(eigenvalues) are {}",
-                                fmt_vec6(moments)));
-    scene.body.inertia_com = I;
+                                out.name, fmt_vec6(moments)));
+    out.inertia_com = I;
   }
+  return out;
+}
+
+InertiaSource read_body(const TomlReader& r, const toml::table& root, Scene& scene) {
+  const toml::table& body = r.required_table(root, "", "body");
+  r.check_keys(body, "body", kBodyKeys, schema().sections);
+  const detail::MassInertia mi = read_mass_inertia_impl(r, body, "body", "body");
+  scene.body.mass = mi.mass;
+  scene.body.inertia_com = mi.inertia_com;
   if (const toml::node* c = body.get("center_of_mass")) {
     const Vec3 com = r.vec3(*c, "body.center_of_mass");
     if (com.norm() > kMaxCenterOfMass)
@@ -200,7 +233,7 @@ InertiaSource read_body(const TomlReader& r, const toml::table& root, Scene& sce
                              com.norm(), kMaxCenterOfMass));
     scene.body.com_B = com;
   }
-  return {inertia_node, inertia_name};
+  return {mi.node, mi.name};
 }
 
 std::string fmt_moments(const Vec3& J) { return fmt::format("J1 = {}, J2 = {}, J3 = {}", J[0], J[1], J[2]); }
@@ -217,20 +250,26 @@ std::string fmt_moments(const Vec3& J) { return fmt::format("J1 = {}, J2 = {}, J
 // use J itself, positive definite. Measured: all 26 combinations on the
 // lamina (1, 2, 3) as accurate as on (1, 2, 2.9) (tests/unit/test_flat_body.cpp).
 // A moment of zero (a rod, a point) is refused earlier: J is then singular.
-void check_triangle_inequality(const TomlReader& r, const InertiaSource& src, const Scene& scene) {
-  const Mat3& Ic = scene.body.inertia_com;
+// Shared with the schema-2 loader (one body of many, its moments about its
+// centre of mass).
+void check_possible_moments_impl(const TomlReader& r, const toml::node& node, std::string_view name,
+                                 const Mat3& Ic) {
   const Vec3 Jc = Eigen::SelfAdjointEigenSolver<Mat3>(Ic).eigenvalues();
   const double trace_c = Jc.sum();
   for (int i = 0; i < 3; ++i) {
     const double others = trace_c - Jc[i];
     if (Jc[i] > others + kTriangleTol * trace_c)
-      r.fail(*src.node,
+      r.fail(node,
              fmt::format("'{}': the principal moments about the centre of mass ({}) violate the "
                          "triangle inequality: J{} = {} exceeds the sum of the other two ({}); no "
                          "mass distribution has these moments (valid: J1 <= J2 + J3, J2 <= J1 + J3, "
                          "J3 <= J1 + J2; equality is a lamina)",
-                         src.name, fmt_moments(Jc), i + 1, Jc[i], others));
+                         name, fmt_moments(Jc), i + 1, Jc[i], others));
   }
+}
+
+void check_triangle_inequality(const TomlReader& r, const InertiaSource& src, const Scene& scene) {
+  check_possible_moments_impl(r, *src.node, src.name, scene.body.inertia_com);
 }
 
 void read_support(const TomlReader& r, const toml::table& root, Scene& scene) {
@@ -278,7 +317,14 @@ so3::EulerSequence read_sequence(const TomlReader& r, const toml::node& n, std::
   }
 }
 
-Mat3 read_orientation(const TomlReader& r, const toml::table& init) {
+// One orientation form of `tbl` (schema 1: [initial]; schema 2: each
+// [[bodies]] entry), as R_WB. `prefix` names the values in messages; unset
+// (not given and not `required`) when the table has none.
+std::optional<Mat3> read_orientation_impl(const TomlReader& r, const toml::table& init, std::string_view table,
+                                          std::string_view prefix, std::span<const SectionKeys> sections,
+                                          bool required) {
+  const std::string label = prefix == table ? table_label(table) : std::string(prefix);
+  const auto name_of = [&](std::string_view key) { return join_key(prefix, key); };
   const toml::node* form = nullptr;
   std::string_view form_name;
   for (auto name : kOrientationForms) {
@@ -287,95 +333,103 @@ Mat3 read_orientation(const TomlReader& r, const toml::table& init) {
     if (form) {
       const bool n_later = before(form->source().begin, n->source().begin);
       const toml::node& later = n_later ? *n : *form;
-      r.fail(later, fmt::format("[initial] has several orientations ('{}' and '{}'); give exactly "
+      r.fail(later, fmt::format("{} has several orientations ('{}' and '{}'); give exactly "
                                 "one of {}",
-                                n_later ? form_name : name, n_later ? name : form_name,
+                                label, n_later ? form_name : name, n_later ? name : form_name,
                                 quoted_list(kOrientationForms)));
     }
     form = n;
     form_name = name;
   }
+  if (!form && !required) return std::nullopt;
   if (!form)
-    r.fail(init.source(), fmt::format("[initial] needs an orientation: give exactly one of {} "
+    r.fail(init.source(), fmt::format("{} needs an orientation: give exactly one of {} "
                                       "(e.g. quaternion = [1.0, 0.0, 0.0, 0.0] for the identity)",
-                                      quoted_list(kOrientationForms)));
+                                      label, quoted_list(kOrientationForms)));
 
   if (form_name == "quaternion") {
-    const Vec4 q = r.vector<4>(*form, "initial.quaternion");
+    const std::string qname = name_of("quaternion");
+    const Vec4 q = r.vector<4>(*form, qname);
     const double n = q.stableNorm();  // a norm of 1e-300 is not zero (squaring would make it so)
     if (n == 0.0)
-      r.fail(*form, "'initial.quaternion' has zero norm; give a unit quaternion (w, x, y, z), "
-                    "scalar first, e.g. [1.0, 0.0, 0.0, 0.0] for the identity");
+      r.fail(*form, fmt::format("'{}' has zero norm; give a unit quaternion (w, x, y, z), "
+                                "scalar first, e.g. [1.0, 0.0, 0.0, 0.0] for the identity",
+                                qname));
     const double dev = std::abs(n - 1.0);
     if (dev > kUnitTolError)
-      r.fail(*form, fmt::format("'initial.quaternion' has norm {} (| |q| - 1 | = {:.3g} > {:g}); "
+      r.fail(*form, fmt::format("'{}' has norm {} (| |q| - 1 | = {:.3g} > {:g}); "
                                 "normalise it (a unit quaternion is expected, scalar first)",
-                                n, dev, kUnitTolError));
+                                qname, n, dev, kUnitTolError));
     if (dev > kUnitTolSilent)
-      r.warn(*form, fmt::format("'initial.quaternion' has norm {} (| |q| - 1 | = {:.3g}); "
+      r.warn(*form, fmt::format("'{}' has norm {} (| |q| - 1 | = {:.3g}); "
                                 "normalised",
-                                n, dev));
+                                qname, n, dev));
     return so3::quaternion_to_matrix(q / n);
   }
 
   if (form_name == "matrix") {
-    const Mat3 M = r.mat3(*form, "initial.matrix");
+    const std::string mname = name_of("matrix");
+    const Mat3 M = r.mat3(*form, mname);
     const double dev = (M.transpose() * M - Mat3::Identity()).norm();
     if (dev > kUnitTolError)
-      r.fail(*form, fmt::format("'initial.matrix' is not orthogonal: ||R^T R - I||_F = {:.3g} > "
+      r.fail(*form, fmt::format("'{}' is not orthogonal: ||R^T R - I||_F = {:.3g} > "
                                 "{:g}; give the rotation matrix R_WB (rows, body to world) "
                                 "to at least 7 significant digits",
-                                dev, kUnitTolError));
+                                mname, dev, kUnitTolError));
     if (M.determinant() < 0.0)
-      r.fail(*form, "'initial.matrix' has determinant -1: it is a reflection, not a rotation "
-                    "(flip the sign of one row or column)");
+      r.fail(*form, fmt::format("'{}' has determinant -1: it is a reflection, not a rotation "
+                                "(flip the sign of one row or column)",
+                                mname));
     if (dev > kUnitTolSilent)
-      r.warn(*form, fmt::format("'initial.matrix' deviates from a rotation by ||R^T R - I||_F = "
+      r.warn(*form, fmt::format("'{}' deviates from a rotation by ||R^T R - I||_F = "
                                 "{:.3g}; replaced by the nearest rotation",
-                                dev));
+                                mname, dev));
     return so3::nearest_rotation(M);
   }
 
   if (form_name == "euler") {
     if (!form->is_table())
-      r.fail(*form, fmt::format("'initial.euler' must be a table such as {{ sequence = \"zxz\", "
+      r.fail(*form, fmt::format("'{}' must be a table such as {{ sequence = \"zxz\", "
                                 "convention = \"intrinsic\", angles = [0.1, 0.2, 0.3] }}, not {}",
-                                type_name(*form)));
+                                name_of("euler"), type_name(*form)));
     const toml::table& e = *form->as_table();
-    r.check_keys(e, "initial.euler", kInitialEulerKeys, schema().sections);
+    const std::string etable = join_key(table, "euler"), ename = name_of("euler");
+    r.check_keys(e, etable, kInitialEulerKeys, sections);
     const toml::node& seq_node =
-        r.required(e, "initial.euler", "sequence", "three axis letters such as \"zxz\" or \"zyx\"");
+        r.required(e, etable, "sequence", "three axis letters such as \"zxz\" or \"zyx\"");
     const toml::node& angles_node =
-        r.required(e, "initial.euler", "angles", "[a, b, c] in rad, in the order of the sequence");
-    const bool extrinsic = read_convention(r, e, "initial.euler");
-    Vec3 angles = r.vec3(angles_node, "initial.euler.angles");
-    const so3::EulerSequence seq = read_sequence(r, seq_node, "initial.euler.sequence", extrinsic, &angles);
+        r.required(e, etable, "angles", "[a, b, c] in rad, in the order of the sequence");
+    const bool extrinsic = read_convention(r, e, ename);
+    Vec3 angles = r.vec3(angles_node, join_key(ename, "angles"));
+    const so3::EulerSequence seq = read_sequence(r, seq_node, join_key(ename, "sequence"), extrinsic, &angles);
     return so3::euler_to_matrix(seq, angles);
   }
 
   // axis_angle
   if (!form->is_table())
-    r.fail(*form, fmt::format("'initial.axis_angle' must be a table such as {{ axis = [0.0, 0.0, "
+    r.fail(*form, fmt::format("'{}' must be a table such as {{ axis = [0.0, 0.0, "
                               "1.0], angle = 0.5 }}, not {}",
-                              type_name(*form)));
+                              name_of("axis_angle"), type_name(*form)));
   const toml::table& aa = *form->as_table();
-  r.check_keys(aa, "initial.axis_angle", kAxisAngleKeys, schema().sections);
+  const std::string atable = join_key(table, "axis_angle"), aname = name_of("axis_angle");
+  r.check_keys(aa, atable, kAxisAngleKeys, sections);
   const toml::node& axis_node =
-      r.required(aa, "initial.axis_angle", "axis", "[x, y, z], any non-zero length");
-  const toml::node& angle_node = r.required(aa, "initial.axis_angle", "angle", "rad");
-  const Vec3 axis = r.vec3(axis_node, "initial.axis_angle.axis");
-  const double angle = r.number(angle_node, "initial.axis_angle.angle");
+      r.required(aa, atable, "axis", "[x, y, z], any non-zero length");
+  const toml::node& angle_node = r.required(aa, atable, "angle", "rad");
+  const Vec3 axis = r.vec3(axis_node, join_key(aname, "axis"));
+  const double angle = r.number(angle_node, join_key(aname, "angle"));
   const double len = axis.norm();
   if (!(len > 0.0) || !std::isfinite(len))
-    r.fail(axis_node, "'initial.axis_angle.axis' must be a non-zero vector (it is normalised by "
-                      "the loader)");
+    r.fail(axis_node, fmt::format("'{}' must be a non-zero vector (it is normalised by "
+                                  "the loader)",
+                                  join_key(aname, "axis")));
   return so3::axis_angle_to_matrix(axis / len, angle);
 }
 
 void read_initial(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table& init = r.required_table(root, "", "initial");
   r.check_keys(init, "initial", kInitialKeys, schema().sections);
-  scene.R0_WB = read_orientation(r, init);
+  scene.R0_WB = *read_orientation_impl(r, init, "initial", "initial", schema().sections, true);
 
   const toml::node& w_node =
       r.required(init, "initial", "angular_velocity", "[wx, wy, wz] in rad/s");
@@ -490,26 +544,7 @@ void read_reference_kind(const TomlReader& r, const toml::table& root, Scene& sc
                          why));
 }
 
-Scene read_scene(const TomlReader& r, const toml::table& root) {
-  Scene scene;
-  scene.source = r.file();
-  if (root.empty())
-    r.fail(root.source(), "the scene is empty (nothing but whitespace or comments); a scene needs "
-                          "schema_version = 1 and the tables [body], [initial] and [time] (see "
-                          "docs/scene_format.md and problems/*.toml)");
-
-  // The version first: a file of another version should fail on that, not on
-  // the keys it renamed.
-  // (Unless it is missing: then a misspelt key is the likelier cause.)
-  if (!root.get("schema_version")) r.check_keys(root, "", kRootKeys, schema().sections);
-  const toml::node& ver = r.required(root, "", "schema_version", "schema_version = 1");
-  const long long version = r.integer(ver, "schema_version");
-  if (version != kSchemaVersion)
-    r.fail(ver, fmt::format("unsupported schema_version {}; this version of rigidae reads "
-                            "schema_version = {}",
-                            version, kSchemaVersion));
-  r.check_keys(root, "", kRootKeys, schema().sections);
-
+void read_scene_name_impl(const TomlReader& r, const toml::table& root, Scene& scene) {
   scene.name = std::filesystem::path(r.file()).stem().string();
   if (const toml::node* n = root.get("name")) {
     scene.name = r.string(*n, "name");
@@ -524,6 +559,33 @@ Scene read_scene(const TomlReader& r, const toml::table& root) {
                              printable(scene.name), kMaxNameBytes));
   }
   if (const toml::node* n = root.get("description")) scene.description = r.string(*n, "description");
+}
+
+Scene read_scene(const TomlReader& r, const toml::table& root) {
+  Scene scene;
+  scene.source = r.file();
+  if (root.empty())
+    r.fail(root.source(), "the scene is empty (nothing but whitespace or comments); a scene needs "
+                          "schema_version = 1 and the tables [body], [initial] and [time] (see "
+                          "docs/scene_format.md and problems/*.toml)");
+
+  // The version first: a file of another version should fail on that, not on
+  // the keys it renamed.
+  // (Unless it is missing: then a misspelt key is the likelier cause -- but
+  // not in a file of bodies and joints, whose keys are schema 2's.)
+  const bool has_bodies = root.get("bodies") || root.get("joints");
+  if (!root.get("schema_version") && !has_bodies) r.check_keys(root, "", kRootKeys, schema().sections);
+  const toml::node& ver =
+      r.required(root, "", "schema_version",
+                 has_bodies ? "schema_version = 2 for a scene of [[bodies]] and [[joints]]" : "schema_version = 1");
+  const long long version = r.integer(ver, "schema_version");
+  if (version == kMultibodySchemaVersion) return detail::read_multibody_scene(r, root);
+  if (version != kSchemaVersion)
+    r.fail(ver, fmt::format("unsupported schema_version {}; this version of rigidae reads "
+                            "schema_version = {} (one body) or {} (bodies and joints)",
+                            version, kSchemaVersion, kMultibodySchemaVersion));
+  r.check_keys(root, "", kRootKeys, schema().sections);
+  read_scene_name_impl(r, root, scene);
 
   const InertiaSource inertia = read_body(r, root, scene);
   read_support(r, root, scene);
@@ -582,6 +644,39 @@ std::string explain_parse_error(std::string_view text, const toml::parse_error& 
 }
 
 }  // namespace
+
+// The shared readers (scene_sections.hpp), for the schema-2 loader.
+namespace detail {
+std::span<const SectionKeys> shared_sections() { return shared_sections_impl(); }
+void read_scene_name(const TomlReader& r, const toml::table& root, Scene& scene) {
+  read_scene_name_impl(r, root, scene);
+}
+void read_gravity(const TomlReader& r, const toml::table& root, Scene& scene) { io::read_gravity(r, root, scene); }
+void read_time(const TomlReader& r, const toml::table& root, Scene& scene) { io::read_time(r, root, scene); }
+void read_formulation(const TomlReader& r, const toml::table& root, Scene& scene) {
+  io::read_formulation(r, root, scene);
+}
+void read_solver(const TomlReader& r, const toml::table& root, Scene& scene) { io::read_solver(r, root, scene); }
+void read_top_level_settings(const TomlReader& r, const toml::table& root, Scene& scene) {
+  read_settings(r, root, "", scene);
+}
+void check_settings_together(const TomlReader& r, const toml::table& root, const Scene& scene) {
+  io::check_settings_together(r, root, scene);
+}
+MassInertia read_mass_inertia(const TomlReader& r, const toml::table& body, std::string_view table,
+                              std::string_view prefix) {
+  return read_mass_inertia_impl(r, body, table, prefix);
+}
+void check_possible_moments(const TomlReader& r, const toml::node& node, std::string_view name,
+                            const Mat3& inertia) {
+  check_possible_moments_impl(r, node, name, inertia);
+}
+std::optional<Mat3> read_orientation(const TomlReader& r, const toml::table& tbl, std::string_view table,
+                                     std::string_view prefix, std::span<const SectionKeys> schema,
+                                     bool required) {
+  return read_orientation_impl(r, tbl, table, prefix, schema, required);
+}
+}  // namespace detail
 
 Scene parse_scene(const std::string& text, const std::string& source_name) {
   const TomlReader reader(source_name);

@@ -234,9 +234,11 @@ TEST_CASE("scene loader: missing required keys point at the enclosing table") {
   CHECK_SCENE_ERROR(kBody + kInitial + kTime, 1, 1, "missing required key 'schema_version'");
 }
 
-TEST_CASE("scene loader: schema_version must be the integer 1") {
-  CHECK_SCENE_ERROR("schema_version = 2\n" + kBody + kInitial + kTime, 1, 18, "unsupported schema_version 2",
-                    "schema_version = 1");
+TEST_CASE("scene loader: schema_version must be the integer 1 (or 2, for bodies and joints)") {
+  CHECK_SCENE_ERROR("schema_version = 3\n" + kBody + kInitial + kTime, 1, 18, "unsupported schema_version 3",
+                    "schema_version = 1 (one body) or 2 (bodies and joints)");
+  CHECK_SCENE_ERROR("schema_version = 2\n" + kBody + kInitial + kTime, 1, 18, "this file has schema 1's [body]",
+                    "write schema_version = 1");
   CHECK_SCENE_ERROR("schema_version = 1.0\n" + kBody + kInitial + kTime, 1, 18, "must be an integer");
 }
 
