@@ -58,7 +58,7 @@ nlohmann::json configuration_json(const Scene& s) {
   };
 }
 
-void write_summary(const std::filesystem::path& path, const Scene& scene, const SolveOutcome& o) {
+nlohmann::json summary(const Scene& scene, const SolveOutcome& o) {
   const IdaCounters& c = o.run.counters;
   const Observation& f = o.extremes.last;
   nlohmann::json multipliers = nlohmann::json::object();
@@ -117,13 +117,21 @@ void write_summary(const std::filesystem::path& path, const Scene& scene, const 
         {"vertical_momentum", f.vertical_momentum},
         {"vertical_momentum_rel_error", f.vertical_momentum_error}}},
   };
-  std::ofstream out(path);
-  if (!out) throw InputError(fmt::format("{}: cannot open for writing", path.string()));
-  // A path from the command line need not be UTF-8; JSON must be: invalid bytes become U+FFFD.
-  out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
+  return j;
 }
 
 }  // namespace
+
+std::string summary_json(const Scene& scene, const SolveOutcome& o) {
+  // A path from the command line need not be UTF-8; JSON must be: invalid bytes become U+FFFD.
+  return summary(scene, o).dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+void write_summary(const std::filesystem::path& path, const Scene& scene, const SolveOutcome& o) {
+  std::ofstream out(path);
+  if (!out) throw InputError(fmt::format("{}: cannot open for writing", path.string()));
+  out << summary_json(scene, o) << '\n';
+}
 
 std::string default_run_name(const Scene& scene) {
   return fmt::format("{}-{}-{}-{}", scene.name.empty() ? "scene" : scene.name,
@@ -136,26 +144,41 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", out_dir.string(), ec.message()));
 
+  std::unique_ptr<RunRecorder> recorder;
+  SolveOutcome o = solve_with(
+      scene,
+      [&](const DaeSystem& dae) -> StepSink& {
+        recorder = std::make_unique<RunRecorder>(dae, scene, out_dir);
+        return *recorder;
+      },
+      [&] {
+        recorder->flush();
+        return recorder->extremes();
+      });
+  o.out_dir = out_dir;
+  write_summary(out_dir / "summary.json", scene, o);
+  return o;
+}
+
+SolveOutcome solve_with(const Scene& scene, const std::function<StepSink&(const DaeSystem&)>& make_sink,
+                        const std::function<RunExtremes()>& finish) {
   std::unique_ptr<DaeSystem> dae = assemble_dae(scene);
   SolveOutcome o;
-  o.out_dir = out_dir;
   o.representation = dae->representation().name();
   o.scheme = dae->scheme().name();
   o.note = dae->scheme().note(dae->representation());
   o.multiplier_names = dae->multiplier_names();
 
-  RunRecorder recorder(*dae, scene, out_dir);
+  StepSink& sink = make_sink(*dae);
   const auto t0 = std::chrono::steady_clock::now();
   try {
-    o.run = integrate(*dae, scene, recorder);
+    o.run = integrate(*dae, scene, sink);
   } catch (const SolverError& e) {
     o.run.status = RunStatus::Failed;
     o.run.message = e.what();
   }
   o.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  recorder.flush();
-  o.extremes = recorder.extremes();
-  write_summary(out_dir / "summary.json", scene, o);
+  o.extremes = finish();
   return o;
 }
 

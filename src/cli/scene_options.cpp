@@ -199,6 +199,11 @@ Scene parse_command_line(const std::vector<std::string>& args, const std::string
     throw InputError(fmt::format("{0} needs a scene file: rigidae {0} SCENE.toml", command));
   Scene scene = io::load_scene(scene_path);
   for (const auto& [opt, text] : overrides) apply_scene_option(scene, opt, text);
+  check_time_grid(scene);
+  return scene;
+}
+
+void check_time_grid(const Scene& scene) {
   // The grid as the options left it (--t-end keeps the scene's output step).
   const TimeGrid& g = scene.time;
   if (std::abs(g.end) > kMaxTimeMagnitude)
@@ -209,7 +214,6 @@ Scene parse_command_line(const std::vector<std::string>& args, const std::string
                                  "are allowed: give a larger --output-step",
                                  g.output_step, (g.end - g.start) / g.output_step, g.start, g.end,
                                  kMaxOutputIntervals));
-  return scene;
 }
 
 }  // namespace rigidae::cli

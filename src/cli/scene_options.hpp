@@ -27,6 +27,10 @@ using NextValue = std::function<std::string()>;
 Scene parse_command_line(const std::vector<std::string>& args, const std::string& command,
                          const std::function<bool(const std::string& opt, const NextValue& value)>& own);
 
+// After the overrides: the time grid they left is within the limits
+// (|end| <= kMaxTimeMagnitude, at most kMaxOutputIntervals output intervals).
+void check_time_grid(const Scene& scene);
+
 // The help lines of the overrides every command accepts.
 extern const char* kSceneOptionsHelp;
 

@@ -2,6 +2,7 @@
 // One run of one scene, start to finish: assemble the DAE, integrate it with
 // IDA while streaming every step to disk, and write summary.json.
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,17 @@ struct SolveOutcome {
 // out_dir (created if needed). A failed run keeps every step and has
 // status "failed" in its summary; it does not throw.
 SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_dir);
+
+// solve_scene without its files, for callers that record the run themselves
+// (the Python module keeps it in memory): make_sink receives the assembled
+// DAE and returns the sink that sees the run; finish is called when the run
+// has ended, however it ended, and returns its extremes. out_dir stays empty.
+SolveOutcome solve_with(const Scene& scene, const std::function<StepSink&(const DaeSystem&)>& make_sink,
+                        const std::function<RunExtremes()>& finish);
+
+// The text of summary.json for an outcome (what solve_scene writes).
+std::string summary_json(const Scene& scene, const SolveOutcome& o);
+void write_summary(const std::filesystem::path& path, const Scene& scene, const SolveOutcome& o);
 
 // A folder name for a formulation, e.g. "heavy_top-quaternion-euler-ggl".
 std::string default_run_name(const Scene& scene);
