@@ -92,12 +92,12 @@ void MemoryRecorder::on_output(double t, const Eigen::VectorXd& y) {
   if (extremes_.steps_recorded == 0) extremes_.last = o;
 }
 
-void MemoryRecorder::on_chart_switch(const ChartSwitch& s) {
-  events_.push_back({s.t, "chart_switch", s.from, s.to, s.margin, kNaN, kNaN});
-}
-
-void MemoryRecorder::on_projection(double t, const ConstraintDrift& before) {
-  events_.push_back({t, "projection", "", "", kNaN, before.position, before.velocity});
+void MemoryRecorder::on_event(const EventNote& e) {
+  // The fields events.csv fills for each kind; the others NaN (empty there).
+  if (e.what == "chart_switch")
+    events_.push_back({e.t, e.what, e.from, e.to, e.margin, kNaN, kNaN});
+  else if (e.what == "projection")
+    events_.push_back({e.t, e.what, "", "", kNaN, e.drift_position, e.drift_velocity});
 }
 
 }  // namespace rigidae::python

@@ -26,8 +26,7 @@ class MemoryRecorder final : public StepSink {
 
   void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
   void on_output(double t, const Eigen::VectorXd& y) override;
-  void on_chart_switch(const ChartSwitch& s) override;
-  void on_projection(double t, const ConstraintDrift& before) override;
+  void on_event(const EventNote& note) override;
 
   const RunExtremes& extremes() const { return extremes_; }
   // Column names in the CSV files' order.
@@ -62,13 +61,9 @@ class TeeSink final : public StepSink {
     a_.on_output(t, y);
     b_.on_output(t, y);
   }
-  void on_chart_switch(const ChartSwitch& s) override {
-    a_.on_chart_switch(s);
-    b_.on_chart_switch(s);
-  }
-  void on_projection(double t, const ConstraintDrift& before) override {
-    a_.on_projection(t, before);
-    b_.on_projection(t, before);
+  void on_event(const EventNote& note) override {
+    a_.on_event(note);
+    b_.on_event(note);
   }
 
  private:
