@@ -44,57 +44,47 @@ HAVE_PANDAS = _tables.HAVE_PANDAS
 # Options: the CLI's scene overrides, named as keywords
 # --------------------------------------------------------------------------
 
-def _parse_option_help(text):
-    """{keyword: "--flag ARG: help"} from the CLI's help of the scene overrides."""
-    blocks, name = {}, None
-    for line in text.splitlines():
-        m = re.match(r"^  (--[a-z-]+)((?: \S+)?)\s*(.*)$", line)
-        if m:
-            name = m.group(1)[2:].replace("-", "_")
-            blocks[name] = [f"{m.group(1)}{m.group(2)}:", m.group(3)]
-        elif name and line.strip():
-            blocks[name].append(line.strip())
-    return {k: " ".join(" ".join(v).split()) for k, v in blocks.items()}
+def _keyword(option):
+    return option[2:].replace("-", "_")
 
 
-_FORMULATION_HELP = {
-    "coordinates": "--coordinates euler|quaternion|linear: rotation coordinates: Euler angles (3, charts "
-                   "switched during the run), unit quaternions (4, 1 constraint) or the 9 entries of R "
-                   "(6 constraints)",
-    "equations": "--equations lagrange|euler: Lagrange form (mass matrix in the coordinates) or Euler form "
-                 "(body angular velocity states + kinematics)",
-    "scheme": "--scheme NAME: constraint treatment: " + ", ".join(_core.scheme_names()),
-}
-#: Every scene option, keyword name -> the CLI's help text for it.
-OPTIONS = {**_FORMULATION_HELP, **_parse_option_help(_core.scene_options_help())}
+def _describe(o):
+    value = f" {o['metavar']}" if o["metavar"] and not o["flag"] else ""
+    extra = [x for x in (o["domain"], f"default {o['default']}" if o["default"] else "", o["unit"]) if x]
+    return f"{o['option']}{value}: {o['help']}" + (f" [{'; '.join(extra)}]" if extra else "")
 
 
-def _option_text(name, value):
+_SOLVE_OPTIONS = [o for o in _core.scene_options("solve") if o["scene_key"]]
+#: Every scene option of solve, keyword name -> its help (from rigidae's table of settings).
+OPTIONS = {_keyword(o["option"]): _describe(o) for o in _SOLVE_OPTIONS}
+_FLAGS = {_keyword(o["option"]) for c in ("solve", "compare") for o in _core.scene_options(c) if o["flag"]}
+
+
+def _option_text(value):
     if isinstance(value, np.generic):
         value = value.item()
     if isinstance(value, float):
         return repr(value)  # shortest text that reads back to the same double
+    if isinstance(value, (list, tuple)):
+        return ",".join(map(str, value))
     return str(value)
 
 
 def _option_args(options):
-    """[(flag, text)] for the core, in the order given (as on a command line)."""
+    """Command-line words for the options, in the order given; the command
+    line parser checks them (unknown names, values) with its own words."""
     args = []
     for name, value in options.items():
         if value is None:
             continue
         flag = "--" + name.replace("_", "-")
-        known, takes_value = _core.is_scene_option(flag) if "-" not in name else (False, False)
-        if not known:
-            close = get_close_matches(name, OPTIONS, n=1)
-            hint = f"; did you mean '{close[0]}'?" if close else ""
-            raise InputError(f"unknown option '{name}'{hint} (valid: {', '.join(OPTIONS)})")
-        if takes_value:
-            args.append((flag, _option_text(name, value)))
-        elif value is True:
-            args.append((flag, ""))
-        elif value is not False:
-            raise InputError(f"option {flag}: {name}= takes True or False, not {value!r}")
+        if name in _FLAGS:
+            if value is True:
+                args.append(flag)
+            elif value is not False:
+                raise InputError(f"option {flag}: {name}= takes True or False, not {value!r}")
+        else:
+            args.append(f"{flag}={_option_text(value)}")
     return args
 
 
@@ -133,18 +123,18 @@ def scene_from_dict(d, **options):
     return _with_options(scene, options)
 
 
-def _with_options(scene, options):
+def _with_options(scene, options, command="solve"):
     args = _option_args(options)
-    return scene._with_options(args) if args else scene
+    return scene._with_options(command, args) if args else scene
 
 
-def _as_scene(scene, options):
-    if isinstance(scene, Scene):
-        return _with_options(scene, options)
+def _as_scene(scene, options, command="solve"):
     if isinstance(scene, dict):
-        return scene_from_dict(scene, **options)
-    if isinstance(scene, (str, os.PathLike)):
-        return load_scene(scene, **options)
+        scene = scene_from_dict(scene)
+    elif isinstance(scene, (str, os.PathLike)):
+        scene = _core.load_scene(os.fspath(scene))
+    if isinstance(scene, Scene):
+        return _with_options(scene, options, command)
     raise TypeError(f"scene must be a rigidae.Scene, a path or a dict, not {type(scene).__name__}")
 
 
@@ -160,22 +150,25 @@ Scene.__repr__ = _scene_repr
 # Runs
 # --------------------------------------------------------------------------
 
+def _units_by_key():
+    """{"t": "s", "qw..qz": "unit quaternion ...", "omega_*": "rad/s body frame", ...} from the units line."""
+    line = _core.units_line().split(":", 1)[1]
+    return dict(seg.strip().split(" ", 1) for seg in line.split(";") if " " in seg.strip())
+
+
+_UNITS_BY_KEY = _units_by_key()
+
+
 def _unit(column):
-    """The unit of a column of steps.csv / trajectory.csv (as their first line states)."""
-    fixed = {"t": "s", "h": "s", "order": "1", "drift_position": "1", "drift_velocity": "1/s", "energy": "J",
-             "energy_rel_error": "1", "vertical_momentum": "kg m^2/s", "vertical_momentum_rel_error": "1",
-             "chart": "Euler sequence"}
-    if column in fixed:
-        return fixed[column]
-    if column in ("qw", "qx", "qy", "qz"):
-        return "1 (unit quaternion of R_WB, scalar first)"
-    if column.startswith("omega_"):
-        return "rad/s (body frame)"
-    if column.startswith("lambda_"):
-        return "J (generalized constraint force)"
-    if column.startswith("mu_"):
-        return "1/s (kinematic multiplier)"
-    return "?"
+    """The unit of a column of steps.csv / trajectory.csv, as their first line states it."""
+    for key, unit in _UNITS_BY_KEY.items():
+        if key == column or (key.endswith("*") and column.startswith(key[:-1])):
+            return unit
+        if ".." in key:
+            first, last = key.split("..")
+            if len(column) == len(first) and column[:-1] == first[:-1] and first[-1] <= column[-1] <= last[-1]:
+                return unit
+    return {"order": "1 (BDF order)", "chart": "Euler sequence"}.get(column, "?")
 
 
 class _Units(dict):
@@ -187,10 +180,10 @@ class _Units(dict):
 UNITS = _Units()
 
 
-def _structured(columns, rows, charts):
-    """A numpy structured array: float64 columns, 'order' int64, 'chart' str."""
+def _structured(columns, rows, charts, integers=("order",)):
+    """A numpy structured array: float64 columns, whole numbers ('order') int64, 'chart' str."""
     width = max([3] + [len(c) for c in charts])
-    dtype = [(c, np.int64 if c == "order" else f"<U{width}" if c == "chart" else np.float64) for c in columns]
+    dtype = [(c, np.int64 if c in integers else f"<U{width}" if c == "chart" else np.float64) for c in columns]
     a = np.empty(rows.shape[0], dtype=dtype)
     names = np.array(charts if charts else [""], dtype=f"<U{width}")
     for i, c in enumerate(columns):
@@ -228,8 +221,9 @@ class Run:
         self.out = raw["out"]
         record = raw["record"]
         charts = list(raw["charts"])
-        self.steps = _structured(raw["step_columns"], raw["steps"], charts) if record == "steps" else None
-        self.grid = _structured(raw["grid_columns"], raw["grid"], charts) if record != "none" else None
+        ints = list(raw["integer_columns"])
+        self.steps = _structured(raw["step_columns"], raw["steps"], charts, ints) if record == "steps" else None
+        self.grid = _structured(raw["grid_columns"], raw["grid"], charts, ints) if record != "none" else None
         self.events = np.array([tuple(e) for e in raw["events"]], dtype=_EVENT_DTYPE)
 
     @property
@@ -296,14 +290,6 @@ solve.__signature__ = inspect.Signature(
     + [inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=None) for name in OPTIONS])
 
 
-def _split_list(v):
-    if v is None:
-        return []
-    if isinstance(v, str):
-        return [x for x in v.split(",") if x]
-    return list(v)
-
-
 def compare(scene, *, only=None, skip=None, repeat=3, reference=None, reference_rtol=None, out=None,
             progress=None, as_dataframe=None, **options):
     """Every applicable coordinates x equations x scheme combination on one
@@ -322,23 +308,12 @@ def compare(scene, *, only=None, skip=None, repeat=3, reference=None, reference_
     options         scene overrides as for solve(), except coordinates, equations, scheme
 
     Raises SolverError (with .table) when the reference could not be computed."""
-    for name in ("coordinates", "equations", "scheme"):
-        if options.get(name) is not None:
-            raise InputError(f"option --{name} does not apply to compare, which runs every combination; select "
-                             "with --only/--skip (e.g. --only 'quaternion/*/ggl')")
-    scene = _as_scene(scene, options)
-    repeat = _core.parse_count("--repeat", str(repeat))
-    if repeat > 1000:
-        raise InputError("option --repeat: at most 1000 repeats")
-    if reference_rtol is not None:
-        x = _core.parse_number("--reference-rtol", _option_text("reference_rtol", reference_rtol))
-        if not 0 < x < 1:
-            raise InputError(f"option --reference-rtol: {x} is outside (0, 1)")
-        reference_rtol = x
+    scene = _as_scene(scene, {})
+    args = _option_args(dict(options, repeat=repeat, only=only, skip=skip, reference=reference,
+                             reference_rtol=reference_rtol))
     with tempfile.TemporaryDirectory(prefix="rigidae-compare-") as tmp:
         folder = os.fspath(out) if out is not None else tmp
-        raw = _core.compare(scene, repeat, _split_list(only), _split_list(skip), folder, reference or "",
-                            reference_rtol, progress)
+        raw = _core.compare(scene, args, folder, progress)
         result = _tables.read_csv(os.path.join(folder, "compare.csv"), as_dataframe)
     if not raw["reference_ok"]:
         e = SolverError(raw["reference_message"])

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 namespace rigidae::python {
 
@@ -10,15 +11,12 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// The observation columns of steps.csv and trajectory.csv, in the order
-// RunRecorder writes them (tests/python compares them with the CLI's headers).
-std::vector<std::string> observation_columns(const std::vector<std::string>& multipliers) {
-  std::vector<std::string> c{"qw", "qx", "qy", "qz", "omega_x", "omega_y", "omega_z", "drift_position",
-                             "drift_velocity"};
-  c.insert(c.end(), multipliers.begin(), multipliers.end());
-  for (const char* s : {"energy", "energy_rel_error", "vertical_momentum", "vertical_momentum_rel_error"})
-    c.emplace_back(s);
-  return c;
+std::vector<std::string> split(const std::string& header) {
+  std::vector<std::string> names;
+  std::stringstream ss(header);
+  std::string name;
+  while (std::getline(ss, name, ',')) names.push_back(name);
+  return names;
 }
 
 }  // namespace
@@ -31,45 +29,47 @@ MemoryRecorder::MemoryRecorder(const DaeSystem& dae, const Scene& scene, bool ke
       step_observer_(dae, scene),
       grid_observer_(dae, scene) {
   const std::vector<std::string> names = dae.multiplier_names();
-  const std::vector<std::string> obs = observation_columns(names);
-  step_columns_ = {"t", "h", "order"};
-  step_columns_.insert(step_columns_.end(), obs.begin(), obs.end());
-  grid_columns_ = {"t"};
-  grid_columns_.insert(grid_columns_.end(), obs.begin(), obs.end());
-  if (with_chart_) {
-    step_columns_.emplace_back("chart");
-    grid_columns_.emplace_back("chart");
-  }
+  step_columns_ = split(columns::header(columns::kSteps, names, with_chart_));
+  grid_columns_ = split(columns::header(columns::kTrajectory, names, with_chart_));
   const int nm = static_cast<int>(names.size());
   extremes_.multiplier_min = Eigen::VectorXd::Constant(nm, std::numeric_limits<double>::infinity());
   extremes_.multiplier_max = Eigen::VectorXd::Constant(nm, -std::numeric_limits<double>::infinity());
 }
 
-void MemoryRecorder::append_observation(std::vector<double>& rows, const Observation& o) {
-  rows.insert(rows.end(), o.q_WB.data(), o.q_WB.data() + 4);
-  rows.insert(rows.end(), o.omega_B.data(), o.omega_B.data() + 3);
-  rows.push_back(o.drift.position);
-  rows.push_back(o.drift.velocity);
-  for (int i = 0; i < o.multipliers.size(); ++i) rows.push_back(o.multipliers(i));
-  rows.push_back(o.energy);
-  rows.push_back(o.energy_error);
-  rows.push_back(o.vertical_momentum);
-  rows.push_back(o.vertical_momentum_error);
-  if (with_chart_) {
-    const std::string chart = dae_.representation().chart_name();
-    auto it = std::find(chart_names_.begin(), chart_names_.end(), chart);
-    if (it == chart_names_.end()) it = chart_names_.insert(chart_names_.end(), chart);
-    rows.push_back(static_cast<double>(it - chart_names_.begin()));
+std::vector<std::string> MemoryRecorder::integer_columns() const {
+  std::vector<std::string> names;
+  for (const columns::Column& c : columns::all())
+    if (c.kind == columns::Kind::Integer) names.emplace_back(c.name);
+  return names;
+}
+
+void MemoryRecorder::append(std::vector<double>& rows, columns::File file, const columns::Sample& s) {
+  for (const columns::Column& c : columns::all()) {
+    if (!(c.files & file)) continue;
+    switch (c.kind) {
+      case columns::Kind::Real: rows.push_back(c.value(s)); break;
+      case columns::Kind::Integer: rows.push_back(static_cast<double>(c.integer(s))); break;
+      case columns::Kind::Multipliers: {
+        const auto& m = s.observation->multipliers;
+        for (int i = 0; i < m.size(); ++i) rows.push_back(m(i));
+        break;
+      }
+      case columns::Kind::Chart: {
+        if (!with_chart_) break;
+        auto it = std::find(chart_names_.begin(), chart_names_.end(), s.chart);
+        if (it == chart_names_.end()) it = chart_names_.insert(chart_names_.end(), std::string(s.chart));
+        rows.push_back(static_cast<double>(it - chart_names_.begin()));
+        break;
+      }
+    }
   }
 }
 
 void MemoryRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& y) {
   const Observation o = step_observer_.observe(t, y);
   if (keep_steps_) {
-    steps_.push_back(t);
-    steps_.push_back(h);
-    steps_.push_back(order);
-    append_observation(steps_, o);
+    const std::string chart = with_chart_ ? dae_.representation().chart_name() : std::string();
+    append(steps_, columns::kSteps, columns::Sample{t, h, order, &o, chart});
   }
   // As RunRecorder::on_step.
   RunExtremes& e = extremes_;
@@ -86,8 +86,8 @@ void MemoryRecorder::on_step(double t, double h, int order, const Eigen::VectorX
 void MemoryRecorder::on_output(double t, const Eigen::VectorXd& y) {
   const Observation o = grid_observer_.observe(t, y);
   if (keep_grid_) {
-    grid_.push_back(t);
-    append_observation(grid_, o);
+    const std::string chart = with_chart_ ? dae_.representation().chart_name() : std::string();
+    append(grid_, columns::kTrajectory, columns::Sample{t, 0.0, 0, &o, chart});
   }
   if (extremes_.steps_recorded == 0) extremes_.last = o;
 }

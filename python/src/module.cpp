@@ -20,6 +20,7 @@
 #include <optional>
 
 #include "memory_recorder.hpp"
+#include "rigidae/app/command_line.hpp"
 #include "rigidae/app/compare.hpp"
 #include "rigidae/app/solve.hpp"
 #include "rigidae/app/study.hpp"
@@ -28,14 +29,26 @@
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/schemes/scheme.hpp"
+#include "rigidae/record/columns.hpp"
+#include "rigidae/settings/settings.hpp"
 #include "rigidae/so3/rotation.hpp"
-#include "scene_options.hpp"
 
 namespace py = pybind11;
 namespace fs = std::filesystem;
 using namespace rigidae;
 
 namespace {
+
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> items;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    if (comma > start) items.push_back(text.substr(start, comma - start));
+    start = comma + 1;
+  }
+  return items;
+}
 
 bool in_main_thread() {
   py::module_ threading = py::module_::import("threading");
@@ -82,16 +95,39 @@ py::array_t<double> table(const std::vector<double>& flat, std::size_t cols) {
   return a;
 }
 
-Scene with_options(const Scene& scene, const std::vector<std::pair<std::string, std::string>>& options) {
+// The scene with a command's options applied as its command line applies
+// them (cli::parse_arguments and cli::scene_from: same checks, same words).
+Scene with_options(const Scene& scene, const std::string& command, const std::vector<std::string>& args) {
+  const cli::CommandLine cl = cli::parse_arguments(args, cli::command_info(command));
+  if (!cl.positional.empty())
+    throw InputError(fmt::format("unexpected argument '{}': give options as keywords", cl.positional.front()));
   Scene s = scene;
-  for (const auto& [opt, text] : options) {
-    bool takes_value = false;
-    if (!cli::is_scene_option(opt, takes_value))
-      throw InputError(fmt::format("unknown option '{}'; see rigidae --help", opt));
-    cli::apply_scene_option(s, opt, text);
-  }
-  cli::check_time_grid(s);
+  for (const auto& [setting, value] : cl.options)
+    if (setting->set && !setting->scene_key.empty()) setting->set(s, value);
+  if (const auto p = settings::cross_problem(s))
+    throw InputError(fmt::format("{} = {}", settings::scene_setting(p->scene_key).label(), p->message));
   return s;
+}
+
+// The scene overrides of a command (settings with an option and a place in
+// the scene), for the Python keywords and their docstrings.
+py::list scene_options(const std::string& command) {
+  const cli::CommandInfo& info = cli::command_info(command);
+  py::list out;
+  for (const settings::Setting& s : settings::all()) {
+    if (s.option.empty() || !(s.commands & info.bit)) continue;
+    py::dict d;
+    d["option"] = std::string(s.option);
+    d["scene_key"] = std::string(s.scene_key);
+    d["flag"] = s.flag_value.has_value();
+    d["metavar"] = std::string(s.metavar);
+    d["unit"] = std::string(s.unit);
+    d["domain"] = settings::domain_text(s);
+    d["default"] = settings::default_text(s);
+    d["help"] = std::string(s.help);
+    out.append(d);
+  }
+  return out;
 }
 
 py::dict solve(const Scene& scene, const std::string& record, const std::optional<std::string>& out) {
@@ -113,19 +149,13 @@ py::dict solve(const Scene& scene, const std::string& record, const std::optiona
   {
     InterruptScope interrupt;
     py::gil_scoped_release release;
-    o = solve_with(
-        scene,
-        [&](const DaeSystem& dae) -> StepSink& {
-          memory = std::make_unique<python::MemoryRecorder>(dae, scene, record == "steps", record != "none");
-          if (!out_dir) return *memory;
-          files = std::make_unique<RunRecorder>(dae, scene, *out_dir);
-          tee = std::make_unique<python::TeeSink>(*files, *memory);
-          return *tee;
-        },
-        [&] {
-          if (files) files->flush();
-          return memory->extremes();
-        });
+    o = solve_with(scene, [&](const DaeSystem& dae) {
+      memory = std::make_unique<python::MemoryRecorder>(dae, scene, record == "steps", record != "none");
+      if (!out_dir) return RunSink{memory.get(), {}};
+      files = std::make_unique<RunRecorder>(dae, scene, *out_dir);
+      tee = std::make_unique<python::TeeSink>(*files, *memory);
+      return RunSink{tee.get(), [&] { files->close(); }};
+    });
     if (out_dir) {
       o.out_dir = *out_dir;
       write_summary(*out_dir / "summary.json", scene, o);
@@ -144,6 +174,7 @@ py::dict solve(const Scene& scene, const std::string& record, const std::optiona
   r["record"] = record;
   r["step_columns"] = memory->step_columns();
   r["grid_columns"] = memory->grid_columns();
+  r["integer_columns"] = memory->integer_columns();
   r["steps"] = table(memory->steps(), memory->step_columns().size());
   r["grid"] = table(memory->grid(), memory->grid_columns().size());
   r["charts"] = memory->chart_names();
@@ -152,16 +183,16 @@ py::dict solve(const Scene& scene, const std::string& record, const std::optiona
   return r;
 }
 
-py::dict compare(const Scene& scene, int repeat, const std::vector<std::string>& only,
-                 const std::vector<std::string>& skip, const std::string& out, const std::string& reference,
-                 std::optional<double> reference_rtol, const std::function<void(const std::string&)>& progress) {
+py::dict compare(const Scene& base, const std::vector<std::string>& args, const std::string& out,
+                 const std::function<void(const std::string&)>& progress) {
+  const cli::CommandLine cl = cli::parse_arguments(args, cli::command_info("compare"));
+  const Scene scene = with_options(base, "compare", args);
   CompareOptions opt;
-  opt.repeat = repeat;
-  opt.only = only;
-  opt.skip = skip;
   opt.out = out;
-  opt.reference = reference;
-  opt.reference_rtol = reference_rtol;
+  if (const auto* n = cl.last("--repeat")) opt.repeat = static_cast<int>(std::get<long long>(*n));
+  if (cl.has("--only")) opt.only = split_list(cl.text("--only"));
+  if (cl.has("--skip")) opt.skip = split_list(cl.text("--skip"));
+  if (const auto* x = cl.last("--reference-rtol")) opt.reference_rtol = std::get<double>(*x);
   std::error_code ec;
   fs::create_directories(opt.out, ec);
   if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", out, ec.message()));
@@ -281,22 +312,15 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("output_step", [](const Scene& s) { return s.time.output_step; })
       .def_property_readonly("is_multibody", [](const Scene& s) { return s.multibody.has_value(); })
       .def_property_readonly("run_name", [](const Scene& s) { return default_run_name(s); })
-      .def("_with_options", &with_options, py::arg("options"));
+      .def("_with_options", &with_options, py::arg("command"), py::arg("args"));
 
   m.def("load_scene", &io::load_scene, py::arg("path"));
   m.def("parse_scene", &io::parse_scene, py::arg("text"), py::arg("source_name"));
   m.def("scheme_names", &scheme_names);
-  m.def("scene_options_help", [] { return std::string(cli::kSceneOptionsHelp); });
-  m.def("is_scene_option", [](const std::string& opt) {
-    bool takes_value = false;
-    const bool known = cli::is_scene_option(opt, takes_value);
-    return py::make_tuple(known, takes_value);
-  });
-  m.def("parse_count", &cli::parse_count);
-  m.def("parse_number", &cli::parse_number);
+  m.def("scene_options", &scene_options, py::arg("command"));
+  m.def("units_line", &columns::units_line);
   m.def("solve", &solve, py::arg("scene"), py::arg("record"), py::arg("out"));
-  m.def("compare", &compare, py::arg("scene"), py::arg("repeat"), py::arg("only"), py::arg("skip"), py::arg("out"),
-        py::arg("reference"), py::arg("reference_rtol"), py::arg("progress"));
+  m.def("compare", &compare, py::arg("scene"), py::arg("args"), py::arg("out"), py::arg("progress"));
   m.def("exact_solution", &exact_solution, py::arg("scene"), py::arg("times"));
 
   py::class_<StudySpec>(m, "StudySpec")

@@ -13,6 +13,8 @@
 #include "rigidae/coords/representation.hpp"
 #include "rigidae/app/accuracy.hpp"
 #include "rigidae/core/error.hpp"
+#include "rigidae/io/checked_file.hpp"
+#include "rigidae/record/columns.hpp"
 #include "rigidae/record/trajectory_csv.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 #include "rigidae/schemes/scheme.hpp"
@@ -124,7 +126,7 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
     row.lambda_min = row.lambda_max = row.mu_abs_max = kNaN;
     const RunExtremes& x = row.outcome.extremes;
     for (std::size_t i = 0; i < row.outcome.multiplier_names.size() && x.steps_recorded > 0; ++i) {
-      const bool force = row.outcome.multiplier_names[i].rfind("lambda_", 0) == 0;
+      const bool force = columns::is_force_multiplier(row.outcome.multiplier_names[i]);
       const int j = static_cast<int>(i);
       if (force) {
         row.lambda_min = std::isnan(row.lambda_min) ? x.multiplier_min(j) : std::min(row.lambda_min, x.multiplier_min(j));
@@ -175,13 +177,9 @@ std::string format_compare_table(const CompareReport& r) {
 }
 
 void write_compare_outputs(const CompareReport& r, const std::filesystem::path& out) {
-  auto open = [&](const char* name) {
-    std::ofstream f(out / name);
-    if (!f) throw InputError(fmt::format("{}: cannot open for writing", (out / name).string()));
-    return f;
-  };
+  // Each table is made whole in memory and written atomically (io/checked_file.hpp).
   {
-    std::ofstream f = open("compare.csv");
+    std::ostringstream f;
     f << fmt::format("# units: wall_s s (median of repeats); drift_position 1; drift_velocity 1/s; error_* rad to the "
                      "reference {}{} (estimated accuracy {:.3e} rad); lambda J; mu 1/s\n",
                      r.reference.combination,
@@ -206,11 +204,11 @@ void write_compare_outputs(const CompareReport& r, const std::filesystem::path& 
                        row.lambda_min, row.lambda_max, row.mu_abs_max, r.rtol, r.atol, r.scene_name,
                        row.combination.folder(), msg);
     }
+    write_file_atomically(out / "compare.csv", f.str());
   }
-  const std::string table = format_compare_table(r);
-  open("compare.txt") << table;
+  write_file_atomically(out / "compare.txt", format_compare_table(r));
   {
-    std::ofstream f = open("compare.md");
+    std::ostringstream f;
     f << "| combination | status | steps | residual evals | wall s | max \\|Phi\\| | max \\|dPhi/dt\\| | max \\|dE/E\\| "
          "| error at end, rad | max error, rad | restarts |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const CompareRow& row : r.rows) {
@@ -223,6 +221,7 @@ void write_compare_outputs(const CompareReport& r, const std::filesystem::path& 
                        constrained ? sci(x.max_drift_velocity) : "–", sci(x.max_abs_energy_error),
                        sci(row.error_final_rad), sci(row.error_max_rad), c.restarts);
     }
+    write_file_atomically(out / "compare.md", f.str());
   }
 }
 

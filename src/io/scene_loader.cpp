@@ -28,6 +28,7 @@
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/exact/exact_solution.hpp"
+#include "rigidae/settings/settings.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
 #include "rigidae/so3/rotation.hpp"
 #include "toml_reader.hpp"
@@ -53,44 +54,63 @@ constexpr std::array<std::string_view, 6> kInitialKeys{
     "quaternion", "euler", "matrix", "axis_angle", "angular_velocity", "angular_velocity_frame"};
 constexpr std::array<std::string_view, 3> kInitialEulerKeys{"sequence", "convention", "angles"};
 constexpr std::array<std::string_view, 2> kAxisAngleKeys{"axis", "angle"};
-constexpr std::array<std::string_view, 3> kTimeKeys{"start", "end", "output_step"};
-constexpr std::array<std::string_view, 6> kFormulationKeys{"coordinates", "equations", "scheme",
-                                                           "euler_angles", "baumgarte", "projection"};
-constexpr std::array<std::string_view, 4> kEulerAnglesKeys{"sequence", "convention", "switching",
-                                                           "switch_threshold"};
-constexpr std::array<std::string_view, 2> kBaumgarteKeys{"a", "b"};
-constexpr std::array<std::string_view, 2> kProjectionKeys{"when", "threshold"};
-constexpr std::array<std::string_view, 7> kSolverKeys{"rtol",         "atol",     "max_steps",    "max_order",
-                                                      "initial_step", "jacobian", "linear_solver"};
+// The keys of a table that holds settings: those the table of settings
+// (src/settings/table.cpp) places in it, then the table's structural keys.
+// A setting added there is accepted here without another list to edit.
+std::vector<std::string_view> setting_keys(std::string_view table, std::initializer_list<std::string_view> structural) {
+  std::vector<std::string_view> keys;
+  for (const settings::Setting& s : settings::all()) {
+    const std::size_t dot = s.scene_key.rfind('.');
+    if (!s.scene_key.empty() && dot != std::string_view::npos && s.scene_key.substr(0, dot) == table)
+      keys.push_back(s.scene_key.substr(dot + 1));
+  }
+  keys.insert(keys.end(), structural.begin(), structural.end());
+  return keys;
+}
+
+// Built on first use (the table of settings lives in another translation unit).
+struct SettingTables {
+  std::vector<std::string_view> time = setting_keys("time", {});
+  std::vector<std::string_view> formulation = setting_keys("formulation", {"euler_angles", "baumgarte", "projection"});
+  std::vector<std::string_view> euler_angles = setting_keys("formulation.euler_angles", {"convention"});
+  std::vector<std::string_view> baumgarte = setting_keys("formulation.baumgarte", {});
+  std::vector<std::string_view> projection = setting_keys("formulation.projection", {});
+  std::vector<std::string_view> solver = setting_keys("solver", {});
+};
 
 constexpr std::array<std::string_view, 4> kOrientationForms{"quaternion", "euler", "matrix",
                                                             "axis_angle"};
 
-// Used to point a key written in the wrong table to the right one.
-const std::array<SectionKeys, 13> kAllSections{{
-    {"", kRootKeys},
-    {"body", kBodyKeys},
-    {"support", kSupportKeys},
-    {"gravity", kGravityKeys},
-    {"initial", kInitialKeys},
-    {"initial.euler", kInitialEulerKeys},
-    {"initial.axis_angle", kAxisAngleKeys},
-    {"time", kTimeKeys},
-    {"formulation", kFormulationKeys},
-    {"formulation.euler_angles", kEulerAnglesKeys},
-    {"formulation.baumgarte", kBaumgarteKeys},
-    {"formulation.projection", kProjectionKeys},
-    {"solver", kSolverKeys},
-}};
+// Every table's keys, used to point a key written in the wrong table to the right one.
+struct Schema {
+  SettingTables settings;
+  std::array<SectionKeys, 13> sections{{
+      {"", kRootKeys},
+      {"body", kBodyKeys},
+      {"support", kSupportKeys},
+      {"gravity", kGravityKeys},
+      {"initial", kInitialKeys},
+      {"initial.euler", kInitialEulerKeys},
+      {"initial.axis_angle", kAxisAngleKeys},
+      {"time", settings.time},
+      {"formulation", settings.formulation},
+      {"formulation.euler_angles", settings.euler_angles},
+      {"formulation.baumgarte", settings.baumgarte},
+      {"formulation.projection", settings.projection},
+      {"solver", settings.solver},
+  }};
+};
+
+const Schema& schema() {
+  static const Schema s;
+  return s;
+}
 
 // Magnitudes beyond these are taken as input mistakes (wrong units, typos).
 constexpr double kMaxMass = 1e9;                 // kg
 constexpr double kMaxAngularVelocity = 1e6;      // rad/s
 constexpr double kMaxGravity = 1e4;              // m/s^2
 constexpr double kMaxCenterOfMass = 1e6;         // m
-constexpr double kMaxBaumgarteGain = 1e8;        // 1/s
-constexpr double kMinRtol = kMinRelativeTolerance;  // see scene.hpp
-constexpr double kMaxTime = kMaxTimeMagnitude;   // s, |time.start| and |time.end|
 constexpr std::size_t kMaxNameBytes = 100;       // the name becomes part of the default output folder
 constexpr std::size_t kMaxSceneBytes = 1 << 20;  // a scene is a few hundred bytes; a bigger file is a mistake
 
@@ -116,7 +136,7 @@ struct InertiaSource {
 
 InertiaSource read_body(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table& body = r.required_table(root, "", "body");
-  r.check_keys(body, "body", kBodyKeys, kAllSections);
+  r.check_keys(body, "body", kBodyKeys, schema().sections);
 
   const toml::node& mass_node = r.required(body, "body", "mass", "kg, > 0");
   const double mass = r.number(mass_node, "body.mass");
@@ -235,7 +255,7 @@ void check_triangle_inequality(const TomlReader& r, const InertiaSource& src, co
 void read_support(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* sup = r.optional_table(root, "", "support");
   if (!sup) return;
-  r.check_keys(*sup, "support", kSupportKeys, kAllSections);
+  r.check_keys(*sup, "support", kSupportKeys, schema().sections);
   if (const toml::node* t = sup->get("type")) {
     constexpr std::array<std::string_view, 2> opts{"fixed_point", "free"};
     scene.support = r.choice(*t, "support.type", opts) == 0 ? Support::FixedPoint : Support::Free;
@@ -245,7 +265,7 @@ void read_support(const TomlReader& r, const toml::table& root, Scene& scene) {
 void read_gravity(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* g = r.optional_table(root, "", "gravity");
   if (!g) return;
-  r.check_keys(*g, "gravity", kGravityKeys, kAllSections);
+  r.check_keys(*g, "gravity", kGravityKeys, schema().sections);
   if (const toml::node* a = g->get("acceleration")) {
     const Vec3 acc = r.vec3(*a, "gravity.acceleration");
     if (acc.norm() > kMaxGravity)
@@ -341,7 +361,7 @@ Mat3 read_orientation(const TomlReader& r, const toml::table& init) {
                                 "convention = \"intrinsic\", angles = [0.1, 0.2, 0.3] }}, not {}",
                                 type_name(*form)));
     const toml::table& e = *form->as_table();
-    r.check_keys(e, "initial.euler", kInitialEulerKeys, kAllSections);
+    r.check_keys(e, "initial.euler", kInitialEulerKeys, schema().sections);
     const toml::node& seq_node =
         r.required(e, "initial.euler", "sequence", "three axis letters such as \"zxz\" or \"zyx\"");
     const toml::node& angles_node =
@@ -358,7 +378,7 @@ Mat3 read_orientation(const TomlReader& r, const toml::table& init) {
                               "1.0], angle = 0.5 }}, not {}",
                               type_name(*form)));
   const toml::table& aa = *form->as_table();
-  r.check_keys(aa, "initial.axis_angle", kAxisAngleKeys, kAllSections);
+  r.check_keys(aa, "initial.axis_angle", kAxisAngleKeys, schema().sections);
   const toml::node& axis_node =
       r.required(aa, "initial.axis_angle", "axis", "[x, y, z], any non-zero length");
   const toml::node& angle_node = r.required(aa, "initial.axis_angle", "angle", "rad");
@@ -373,7 +393,7 @@ Mat3 read_orientation(const TomlReader& r, const toml::table& init) {
 
 void read_initial(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table& init = r.required_table(root, "", "initial");
-  r.check_keys(init, "initial", kInitialKeys, kAllSections);
+  r.check_keys(init, "initial", kInitialKeys, schema().sections);
   scene.R0_WB = read_orientation(r, init);
 
   const toml::node& w_node =
@@ -391,172 +411,87 @@ void read_initial(const TomlReader& r, const toml::table& root, Scene& scene) {
   scene.omega0_B = space ? Vec3(scene.R0_WB.transpose() * w) : w;
 }
 
+// The table's settings (rigidae/settings) that live in `table` of the scene:
+// read with the type the table states, checked by settings::problem, stored
+// through the table's accessor. One check and one wording for the scene file,
+// the command line and study files.
+void read_settings(const TomlReader& r, const toml::table& t, std::string_view table, Scene& scene) {
+  for (const settings::Setting& s : settings::all()) {
+    if (s.scene_key.empty() || !s.set) continue;
+    const std::size_t dot = s.scene_key.rfind('.');
+    const std::string_view parent = dot == std::string_view::npos ? std::string_view() : s.scene_key.substr(0, dot);
+    if (parent != table) continue;
+    const toml::node* n = t.get(dot == std::string_view::npos ? s.scene_key : s.scene_key.substr(dot + 1));
+    if (!n) continue;
+    settings::Value v;
+    switch (s.kind) {
+      case settings::Kind::Real: v = r.number(*n, s.scene_key); break;
+      case settings::Kind::Integer: v = r.integer(*n, s.scene_key); break;
+      case settings::Kind::Boolean: v = r.boolean(*n, s.scene_key); break;
+      case settings::Kind::Choice:
+      case settings::Kind::Text: v = r.string(*n, s.scene_key); break;
+    }
+    const std::string why = settings::problem(s, v);
+    if (!why.empty()) r.fail(*n, fmt::format("'{}' = {}", s.scene_key, why));
+    s.set(scene, v);
+  }
+}
+
 void read_time(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table& t = r.required_table(root, "", "time");
-  r.check_keys(t, "time", kTimeKeys, kAllSections);
-  double start = 0.0;
-  const auto check_magnitude = [&](const toml::node& n, std::string_view name, double x) {
-    if (std::abs(x) > kMaxTime)
-      r.fail(n, fmt::format("'{}' = {} s is too large; times must lie within +-{:g} s", name, x, kMaxTime));
-  };
-  if (const toml::node* s = t.get("start")) {
-    start = r.number(*s, "time.start");
-    check_magnitude(*s, "time.start", start);
-  }
-  const toml::node& end_node = r.required(t, "time", "end", "s, > start");
-  const double end = r.number(end_node, "time.end");
-  check_magnitude(end_node, "time.end", end);
-  if (!(end > start))
-    r.fail(end_node, fmt::format("'time.end' = {} must be greater than 'time.start' = {}", end, start));
-  const double span = end - start;
-  double step = span / 100.0;
-  if (const toml::node* o = t.get("output_step")) {
-    step = r.number(*o, "time.output_step");
-    if (!(step > 0.0) || step > span)
-      r.fail(*o, fmt::format("'time.output_step' = {} must be > 0 and <= end - start = {} s", step, span));
-    if (span / step > kMaxOutputIntervals)
-      r.fail(*o, fmt::format("'time.output_step' = {} gives {:.3g} output intervals over {} s; at "
-                             "most {:g} are allowed",
-                             step, span / step, span, kMaxOutputIntervals));
-  }
-  scene.time.start = start;
-  scene.time.end = end;
-  scene.time.output_step = step;
+  r.check_keys(t, "time", schema().settings.time, schema().sections);
+  r.required(t, "time", "end", "s, > start");
+  read_settings(r, t, "time", scene);
+  // Unset, the grid has 100 intervals (settings::cross_problem checks the grid).
+  if (!t.get("output_step") && scene.time.end > scene.time.start)
+    scene.time.output_step = (scene.time.end - scene.time.start) / 100.0;
 }
 
-void read_euler_charts(const TomlReader& r, const toml::table& f, EulerChartSpec& euler) {
+void read_euler_charts(const TomlReader& r, const toml::table& f, EulerChartSpec& euler, Scene& scene) {
   const toml::table* ea = r.optional_table(f, "formulation", "euler_angles");
   if (!ea) return;
-  r.check_keys(*ea, "formulation.euler_angles", kEulerAnglesKeys, kAllSections);
+  r.check_keys(*ea, "formulation.euler_angles", schema().settings.euler_angles, schema().sections);
   const bool extrinsic = read_convention(r, *ea, "formulation.euler_angles");
-  if (const toml::node* s = ea->get("sequence")) {
-    const std::string letters = r.string(*s, "formulation.euler_angles.sequence");
-    if (letters == "auto")
-      euler.sequence.reset();
-    else
-      euler.sequence = read_sequence(r, *s, "formulation.euler_angles.sequence", extrinsic, nullptr);
-  }
-  if (const toml::node* s = ea->get("switching"))
-    euler.switching = r.boolean(*s, "formulation.euler_angles.switching");
-  if (const toml::node* s = ea->get("switch_threshold")) {
-    const double th = r.number(*s, "formulation.euler_angles.switch_threshold");
-    if (!(th > 0.0 && th < 1.0))
-      r.fail(*s, fmt::format("'formulation.euler_angles.switch_threshold' = {} must lie in (0, 1) "
-                             "(a margin |sin b| or |cos b|)",
-                             th));
-    euler.switch_threshold = th;
-  }
-}
-
-void read_baumgarte(const TomlReader& r, const toml::table& f, BaumgarteGains& gains) {
-  const toml::table* b = r.optional_table(f, "formulation", "baumgarte");
-  if (!b) return;
-  r.check_keys(*b, "formulation.baumgarte", kBaumgarteKeys, kAllSections);
-  for (const char* key : {"a", "b"}) {
-    const toml::node* n = b->get(key);
-    if (!n) continue;
-    const std::string name = fmt::format("formulation.baumgarte.{}", key);
-    const double v = r.number(*n, name);
-    if (!(v >= 0.0 && v <= kMaxBaumgarteGain))
-      r.fail(*n, fmt::format("'{}' = {} must lie in [0, {:g}] (1/s; a rate of the constraint feedback)", name, v,
-                             kMaxBaumgarteGain));
-    (key[0] == 'a' ? gains.a : gains.b) = v;
-  }
-}
-
-void read_projection(const TomlReader& r, const toml::table& f, ProjectionSpec& spec) {
-  const toml::table* p = r.optional_table(f, "formulation", "projection");
-  if (!p) return;
-  r.check_keys(*p, "formulation.projection", kProjectionKeys, kAllSections);
-  if (const toml::node* w = p->get("when")) {
-    constexpr std::array<std::string_view, 2> opts{"threshold", "every_step"};
-    spec.every_step = r.choice(*w, "formulation.projection.when", opts) == 1;
-  }
-  if (const toml::node* n = p->get("threshold")) {
-    const double v = r.number(*n, "formulation.projection.threshold");
-    if (!(v > 0.0 && v < 1.0))
-      r.fail(*n, fmt::format("'formulation.projection.threshold' = {} must lie in (0, 1) (a drift |Phi|, e.g. 1e-8)",
-                             v));
-    spec.threshold = v;
-  }
+  read_settings(r, *ea, "formulation.euler_angles", scene);
+  // The table reads the letters as intrinsic; extrinsic letters name the reversed sequence.
+  if (extrinsic && euler.sequence) euler.sequence = so3::parse_euler_sequence(euler.sequence->name(), true);
 }
 
 void read_formulation(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* f = r.optional_table(root, "", "formulation");
   if (!f) return;
-  r.check_keys(*f, "formulation", kFormulationKeys, kAllSections);
-  Formulation& form = scene.formulation;
-  if (const toml::node* c = f->get("coordinates")) {
-    constexpr std::array<std::string_view, 3> opts{"euler", "quaternion", "linear"};
-    constexpr std::array<Coordinates, 3> vals{Coordinates::EulerAngles, Coordinates::Quaternion,
-                                              Coordinates::Linear};
-    form.coordinates = vals[r.choice(*c, "formulation.coordinates", opts)];
+  r.check_keys(*f, "formulation", schema().settings.formulation, schema().sections);
+  read_settings(r, *f, "formulation", scene);
+  read_euler_charts(r, *f, scene.formulation.euler, scene);
+  for (const char* sub : {"baumgarte", "projection"}) {
+    const std::string table = fmt::format("formulation.{}", sub);
+    const toml::table* t = r.optional_table(*f, "formulation", sub);
+    if (!t) continue;
+    r.check_keys(*t, table, sub[0] == 'b' ? schema().settings.baumgarte : schema().settings.projection,
+                 schema().sections);
+    read_settings(r, *t, table, scene);
   }
-  if (const toml::node* e = f->get("equations")) {
-    constexpr std::array<std::string_view, 2> opts{"lagrange", "euler"};
-    form.equations = r.choice(*e, "formulation.equations", opts) == 0 ? Equations::Lagrange
-                                                                      : Equations::Euler;
-  }
-  if (const toml::node* s = f->get("scheme")) {
-    // The scheme registry is the one list of valid names.
-    const std::vector<std::string> names = scheme_names();
-    const std::vector<std::string_view> views(names.begin(), names.end());
-    form.scheme = names[r.choice(*s, "formulation.scheme", views)];
-  }
-
-  read_euler_charts(r, *f, form.euler);
-  read_baumgarte(r, *f, form.baumgarte);
-  read_projection(r, *f, form.projection);
 }
 
 void read_solver(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* s = r.optional_table(root, "", "solver");
   if (!s) return;
-  r.check_keys(*s, "solver", kSolverKeys, kAllSections);
-  SolverSettings& sol = scene.solver;
-  if (const toml::node* n = s->get("rtol")) {
-    const double v = r.number(*n, "solver.rtol");
-    if (!(v >= kMinRtol && v < 1.0))
-      r.fail(*n, fmt::format("'solver.rtol' = {} must lie in [{:g}, 1), e.g. 1e-8 (below {:g} round-off in "
-                             "double precision exceeds the tolerance and the step size collapses)",
-                             v, kMinRtol, kMinRtol));
-    sol.rtol = v;
+  r.check_keys(*s, "solver", schema().settings.solver, schema().sections);
+  read_settings(r, *s, "solver", scene);
+}
+
+// Checks between settings, reported at the key they name (or its table when
+// the file leaves the key out).
+void check_settings_together(const TomlReader& r, const toml::table& root, const Scene& scene) {
+  const std::optional<settings::CrossProblem> p = settings::cross_problem(scene);
+  if (!p) return;
+  toml::node_view<const toml::node> at = root.at_path(p->scene_key);
+  std::string_view key = p->scene_key;
+  while (!at && key.find('.') != std::string_view::npos) {
+    key = key.substr(0, key.rfind('.'));
+    at = root.at_path(key);
   }
-  if (const toml::node* n = s->get("atol")) {
-    const double v = r.number(*n, "solver.atol");
-    if (!(v >= kMinAbsoluteTolerance && v < 1.0))
-      r.fail(*n, fmt::format("'solver.atol' = {} must lie in [{:g}, 1), e.g. 1e-8 (below {:g} IDA's weighted "
-                             "norms overflow)",
-                             v, kMinAbsoluteTolerance, kMinAbsoluteTolerance));
-    sol.atol = v;
-  }
-  if (const toml::node* n = s->get("max_steps")) {
-    const long long v = r.integer(*n, "solver.max_steps");
-    if (v < 1) r.fail(*n, fmt::format("'solver.max_steps' = {} must be an integer >= 1", v));
-    sol.max_steps = static_cast<long>(v);
-  }
-  if (const toml::node* n = s->get("max_order")) {
-    const long long v = r.integer(*n, "solver.max_order");
-    if (v < 1 || v > 5) r.fail(*n, fmt::format("'solver.max_order' = {} must be an integer from 1 to 5", v));
-    sol.max_order = static_cast<int>(v);
-  }
-  if (const toml::node* n = s->get("initial_step")) {
-    const double v = r.number(*n, "solver.initial_step");
-    if (!(v >= 0.0))
-      r.fail(*n, fmt::format("'solver.initial_step' = {} must be >= 0 (0: estimated at the start)", v));
-    sol.initial_step = v;
-  }
-  if (const toml::node* n = s->get("jacobian")) {
-    static constexpr std::array<std::string_view, 3> kJacobians{"exact", "central", "ida_dq"};
-    sol.jacobian = std::string(kJacobians[r.choice(*n, "solver.jacobian", kJacobians)]);
-  }
-  if (const toml::node* n = s->get("linear_solver")) {
-    static constexpr std::array<std::string_view, 2> kLinearSolvers{"dense", "klu"};
-    sol.linear_solver = std::string(kLinearSolvers[r.choice(*n, "solver.linear_solver", kLinearSolvers)]);
-    if (sol.linear_solver == "klu" && sol.jacobian == "ida_dq")
-      r.fail(*n, "'solver.linear_solver' = \"klu\" needs 'solver.jacobian' = \"exact\" or \"central\" (IDA's "
-                 "difference quotients fill dense matrices only)");
-  }
+  r.fail(at ? at.node()->source() : root.source(), fmt::format("'{}' = {}", p->scene_key, p->message));
 }
 
 // After everything else: whether an exact solution exists depends on the
@@ -564,8 +499,7 @@ void read_solver(const TomlReader& r, const toml::table& root, Scene& scene) {
 void read_reference_kind(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::node* n = root.get("reference");
   if (!n) return;
-  static constexpr std::array<std::string_view, 3> kKinds{"auto", "exact", "tight"};
-  scene.reference = static_cast<ReferenceKind>(r.choice(*n, "reference", kKinds));
+  read_settings(r, root, "", scene);
   if (scene.reference != ReferenceKind::Exact) return;
   std::string why;
   if (exact::find_exact_solution(scene, &why)) return;
@@ -585,14 +519,14 @@ Scene read_scene(const TomlReader& r, const toml::table& root) {
   // The version first: a file of another version should fail on that, not on
   // the keys it renamed.
   // (Unless it is missing: then a misspelt key is the likelier cause.)
-  if (!root.get("schema_version")) r.check_keys(root, "", kRootKeys, kAllSections);
+  if (!root.get("schema_version")) r.check_keys(root, "", kRootKeys, schema().sections);
   const toml::node& ver = r.required(root, "", "schema_version", "schema_version = 1");
   const long long version = r.integer(ver, "schema_version");
   if (version != kSchemaVersion)
     r.fail(ver, fmt::format("unsupported schema_version {}; this version of rigidae reads "
                             "schema_version = {}",
                             version, kSchemaVersion));
-  r.check_keys(root, "", kRootKeys, kAllSections);
+  r.check_keys(root, "", kRootKeys, schema().sections);
 
   scene.name = std::filesystem::path(r.file()).stem().string();
   if (const toml::node* n = root.get("name")) {
@@ -617,6 +551,7 @@ Scene read_scene(const TomlReader& r, const toml::table& root) {
   read_time(r, root, scene);
   read_formulation(r, root, scene);
   read_solver(r, root, scene);
+  check_settings_together(r, root, scene);
   read_reference_kind(r, root, scene);
   return scene;
 }

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "rigidae/app/accuracy_check.hpp"
 #include "rigidae/model/scene.hpp"
 #include "rigidae/record/recorder.hpp"
 #include "rigidae/solver/ida_driver.hpp"
@@ -19,6 +20,9 @@ struct SolveOutcome {
   std::filesystem::path out_dir;
   std::string representation, scheme, note;
   std::vector<std::string> multiplier_names;
+  InvariantDrifts drifts;                 // the accuracy check's measures (app/accuracy_check.hpp)
+  std::vector<AccuracyWarning> warnings;  // those past their limits
+  bool output_lost = false;               // a record could not be written (run.message says which)
 };
 
 // Writes steps.csv, trajectory.csv, events.csv and summary.json into
@@ -26,12 +30,18 @@ struct SolveOutcome {
 // status "failed" in its summary; it does not throw.
 SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_dir);
 
+// The recording side of a run, for solve_with: the sink that sees it, and
+// `close`, called when the run has ended however it ended (it may throw
+// OutputError for a record that could not be completed).
+struct RunSink {
+  RecordingSink* sink = nullptr;
+  std::function<void()> close;
+};
+
 // solve_scene without its files, for callers that record the run themselves
-// (the Python module keeps it in memory): make_sink receives the assembled
-// DAE and returns the sink that sees the run; finish is called when the run
-// has ended, however it ended, and returns its extremes. out_dir stays empty.
-SolveOutcome solve_with(const Scene& scene, const std::function<StepSink&(const DaeSystem&)>& make_sink,
-                        const std::function<RunExtremes()>& finish);
+// (the Python module keeps it in memory): `attach` receives the assembled DAE
+// and returns the recording. out_dir stays empty; nothing is written.
+SolveOutcome solve_with(const Scene& scene, const std::function<RunSink(const DaeSystem&)>& attach);
 
 // The text of summary.json for an outcome (what solve_scene writes).
 std::string summary_json(const Scene& scene, const SolveOutcome& o);

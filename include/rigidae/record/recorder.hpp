@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "rigidae/io/checked_file.hpp"
+#include "rigidae/record/columns.hpp"
 #include "rigidae/record/observation.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 
@@ -29,21 +31,27 @@ struct RunExtremes {
   Observation last;  // at the last recorded step (or the start)
 };
 
+// A CSV file: units comment, header, then rows; every write checked
+// (io/checked_file.hpp), so a full disk ends the run with OutputError.
 class CsvStream {
  public:
   CsvStream(const std::filesystem::path& path, const std::string& units_comment, const std::string& header);
-  ~CsvStream();
-  CsvStream(const CsvStream&) = delete;
-  CsvStream& operator=(const CsvStream&) = delete;
-  std::FILE* file() { return f_; }
-  void flush();
+  CheckedStream& file() { return stream_; }
+  void flush() { stream_.flush(); }
+  void close() { stream_.close(); }
 
  private:
-  std::FILE* f_ = nullptr;
-  std::vector<char> buffer_;
+  CheckedStream stream_;
 };
 
-class RunRecorder final : public StepSink {
+// A sink that keeps the run's extremes as it goes (RunRecorder on disk; the
+// Python module's in-memory recorder): what InvariantMonitor sits in front of.
+class RecordingSink : public StepSink {
+ public:
+  virtual const RunExtremes& extremes() const = 0;
+};
+
+class RunRecorder final : public RecordingSink {
  public:
   RunRecorder(const DaeSystem& dae, const Scene& scene, const std::filesystem::path& out_dir);
 
@@ -51,13 +59,16 @@ class RunRecorder final : public StepSink {
   void on_output(double t, const Eigen::VectorXd& y) override;
   void on_event(const EventNote& note) override;
   void flush();
+  // Flushes, syncs and closes the three files; throws OutputError naming the
+  // first that fails (the others are still closed).
+  void close();
 
-  const RunExtremes& extremes() const { return extremes_; }
+  const RunExtremes& extremes() const override { return extremes_; }
   const std::vector<std::string>& multiplier_names() const { return multiplier_names_; }
 
  private:
-  // Appends o's columns to the row started in b, then writes the row.
-  void write_observation(std::FILE* f, const Observation& o, fmt::memory_buffer& b);
+  // One row of `file` from the table of columns (record/columns.hpp).
+  void write_row(CheckedStream& f, columns::File file, const columns::Sample& sample);
 
   const DaeSystem& dae_;
   std::vector<std::string> multiplier_names_;
