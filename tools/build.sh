@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # Installs rigidae's dependencies from Debian 12's packages (only those
-# missing) and builds everything (the rigidae CLI and the test suite) in ./build.
+# missing) and builds everything (the rigidae CLI, the Python module and the
+# test suite) in ./build.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(g++ cmake ninja-build pkg-config
           libsundials-dev libeigen3-dev libsuitesparse-dev libfmt-dev doctest-dev
           libtomlplusplus-dev nlohmann-json3-dev
-          python3-numpy python3-matplotlib)
+          python3-numpy python3-matplotlib
+          python3-dev pybind11-dev python3-pytest)
 bash tools/install_missing.sh rigidae "${packages[@]}"
 
 # ccache, when present, shares compiled objects between checkouts of the

@@ -40,7 +40,7 @@ constexpr double kConstraintPerStepLimit = 10.0;
 
 }  // namespace
 
-InvariantMonitor::InvariantMonitor(const DaeSystem& dae, const Scene& scene, RunRecorder& recorder)
+InvariantMonitor::InvariantMonitor(const DaeSystem& dae, const Scene& scene, RecordingSink& recorder)
     : recorder_(recorder), body_(dae.body()) {
   d_ = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
   checked_ = !scene.multibody.has_value();

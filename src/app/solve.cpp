@@ -109,7 +109,7 @@ nlohmann::json warnings_json(const std::vector<AccuracyWarning>& warnings) {
   return a;
 }
 
-void write_summary(const std::filesystem::path& path, const Scene& scene, const SolveOutcome& o) {
+nlohmann::json summary(const Scene& scene, const SolveOutcome& o) {
   const IdaCounters& c = o.run.counters;
   const Observation& f = o.extremes.last;
   nlohmann::json multipliers = nlohmann::json::object();
@@ -172,11 +172,19 @@ void write_summary(const std::filesystem::path& path, const Scene& scene, const 
       {"final_row", final_row_json(f, o.multiplier_names)},
       {"columns_units", columns::units_line().substr(2)},
   };
-  // A path from the command line need not be UTF-8; JSON must be: invalid bytes become U+FFFD.
-  write_file_atomically(path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + '\n');
+  return j;
 }
 
 }  // namespace
+
+std::string summary_json(const Scene& scene, const SolveOutcome& o) {
+  // A path from the command line need not be UTF-8; JSON must be: invalid bytes become U+FFFD.
+  return summary(scene, o).dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+void write_summary(const std::filesystem::path& path, const Scene& scene, const SolveOutcome& o) {
+  write_file_atomically(path, summary_json(scene, o) + '\n');
+}
 
 std::string default_run_name(const Scene& scene) {
   return fmt::format("{}-{}-{}-{}", scene.name.empty() ? "scene" : scene.name,
@@ -189,9 +197,20 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", out_dir.string(), ec.message()));
 
+  std::unique_ptr<RunRecorder> recorder;
+  SolveOutcome o = solve_with(scene, [&](const SingleBodyProblem& problem) {
+    recorder = std::make_unique<RunRecorder>(problem, scene, out_dir);
+    return RunSink{recorder.get(), [&] { recorder->close(); }};
+  });
+  o.out_dir = out_dir;
+  write_summary(out_dir / "summary.json", scene, o);
+  if (o.output_lost) throw OutputError(o.run.message);
+  return o;
+}
+
+SolveOutcome solve_with(const Scene& scene, const std::function<RunSink(const SingleBodyProblem&)>& attach) {
   std::unique_ptr<DaeSystem> dae = assemble_dae(scene);
   SolveOutcome o;
-  o.out_dir = out_dir;
   o.representation = dae->representation().name();
   o.scheme = dae->scheme().name();
   o.note = dae->scheme().note(dae->representation());
@@ -199,7 +218,8 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
   o.scheme_parameters = dae->scheme().parameters();
 
   SingleBodyProblem problem(*dae, scene.formulation.euler, scene.R0_WB, scene.omega0_B, scene.source);
-  RunRecorder recorder(problem, scene, out_dir);
+  const RunSink recording = attach(problem);
+  RecordingSink& recorder = *recording.sink;
   InvariantMonitor monitor(*dae, scene, recorder);
   const auto t0 = std::chrono::steady_clock::now();
   std::string lost;  // the first output file that could not be written completely
@@ -213,7 +233,7 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
   }
   o.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   try {
-    recorder.close();
+    if (recording.close) recording.close();
   } catch (const OutputError& e) {
     if (lost.empty()) lost = e.what();
   }
@@ -222,14 +242,13 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
   o.warnings = monitor.warnings();
   if (!lost.empty()) {
     // Results that did not reach the disk are no success, however the solver fared.
+    o.output_lost = true;
     o.run.status = RunStatus::Failed;
     o.run.t_reached = o.extremes.last.t;
     o.run.message = fmt::format("output lost: {}; the run stopped there (last recorded t = {:.9g} s) and what "
                                 "was written is kept",
                                 lost, o.extremes.last.t);
   }
-  write_summary(out_dir / "summary.json", scene, o);
-  if (!lost.empty()) throw OutputError(o.run.message);
   return o;
 }
 

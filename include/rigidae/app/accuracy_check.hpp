@@ -58,7 +58,7 @@ struct InvariantDrifts {
 // reads each step's observation back from it (no second evaluation).
 class InvariantMonitor final : public StepSink {
  public:
-  InvariantMonitor(const DaeSystem& dae, const Scene& scene, RunRecorder& recorder);
+  InvariantMonitor(const DaeSystem& dae, const Scene& scene, RecordingSink& recorder);
 
   void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
   void on_output(double t, const Eigen::VectorXd& y) override { recorder_.on_output(t, y); }
@@ -68,7 +68,7 @@ class InvariantMonitor final : public StepSink {
   std::vector<AccuracyWarning> warnings() const;
 
  private:
-  RunRecorder& recorder_;
+  RecordingSink& recorder_;
   const RigidBodyModel& body_;
   bool checked_, full_momentum_, constrained_;
   double e0_, e_scale_, l_scale_, w_scale_;

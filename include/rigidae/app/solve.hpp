@@ -2,10 +2,12 @@
 // One run of one scene, start to finish: assemble the DAE, integrate it with
 // IDA while streaming every step to disk, and write summary.json.
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "rigidae/app/accuracy_check.hpp"
+#include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/model/scene.hpp"
 #include "rigidae/record/recorder.hpp"
 #include "rigidae/schemes/scheme.hpp"
@@ -23,12 +25,30 @@ struct SolveOutcome {
   InvariantDrifts drifts;                 // the accuracy check's measures (app/accuracy_check.hpp)
   std::vector<AccuracyWarning> warnings;  // those past their limits
   std::vector<SchemeParameter> scheme_parameters;  // as the scheme used them
+  bool output_lost = false;               // a record could not be written (run.message says which)
 };
 
 // Writes steps.csv, trajectory.csv, events.csv and summary.json into
 // out_dir (created if needed). A failed run keeps every step and has
 // status "failed" in its summary; it does not throw.
 SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_dir);
+
+// The recording side of a run, for solve_with: the sink that sees it, and
+// `close`, called when the run has ended however it ended (it may throw
+// OutputError for a record that could not be completed).
+struct RunSink {
+  RecordingSink* sink = nullptr;
+  std::function<void()> close;
+};
+
+// solve_scene without its files, for callers that record the run themselves
+// (the Python module keeps it in memory): `attach` receives the assembled problem
+// and returns the recording. out_dir stays empty; nothing is written.
+SolveOutcome solve_with(const Scene& scene, const std::function<RunSink(const SingleBodyProblem&)>& attach);
+
+// The text of summary.json for an outcome (what solve_scene writes).
+std::string summary_json(const Scene& scene, const SolveOutcome& o);
+void write_summary(const std::filesystem::path& path, const Scene& scene, const SolveOutcome& o);
 
 // A folder name for a formulation, e.g. "heavy_top-quaternion-euler-ggl".
 std::string default_run_name(const Scene& scene);

@@ -45,7 +45,14 @@ class CsvStream {
   CheckedStream stream_;
 };
 
-class RunRecorder final : public StepSink {
+// A sink that keeps the run's extremes as it goes (RunRecorder on disk; the
+// Python module's in-memory recorder): what InvariantMonitor sits in front of.
+class RecordingSink : public StepSink {
+ public:
+  virtual const RunExtremes& extremes() const = 0;
+};
+
+class RunRecorder final : public RecordingSink {
  public:
   // Observes the problem's states in its current chart.
   RunRecorder(const SingleBodyProblem& problem, const Scene& scene, const std::filesystem::path& out_dir);
@@ -58,7 +65,7 @@ class RunRecorder final : public StepSink {
   // first that fails (the others are still closed).
   void close();
 
-  const RunExtremes& extremes() const { return extremes_; }
+  const RunExtremes& extremes() const override { return extremes_; }
   const std::vector<std::string>& multiplier_names() const { return multiplier_names_; }
 
  private:

@@ -1,0 +1,398 @@
+"""rigidae: rigid-body rotation as differential-algebraic equations, solved
+with SUNDIALS IDA, from Python.
+
+    import rigidae
+    scene = rigidae.load_scene("problems/heavy_top.toml")
+    run = rigidae.solve(scene, coordinates="quaternion", equations="euler", scheme="ggl", rtol=1e-10)
+    run.summary["counters"]["steps"], run.grid["qw"], run.steps["drift_position"]
+    table = rigidae.compare(scene, only="quaternion/euler/*", repeat=1)
+
+Scenes: load_scene(path), scene_from_dict(dict) (the keys of
+docs/scene_format.md; read_scene_dict(path) gives a file's dict to modify).
+Runs: solve(), compare(), study(), read_study(), exact_solution().
+Options: every scene override of the CLI, as a keyword with '-' written '_'
+(--t-end is t_end=, --no-chart-switching is no_chart_switching=True);
+see rigidae.OPTIONS and help(rigidae.solve).
+Errors: InputError (a ValueError), SolverError, Interrupted (Ctrl-C).
+Tables: pandas DataFrames when pandas is importable, else dicts of numpy arrays.
+"""
+import inspect
+import json
+import os
+import re
+import tempfile
+import tomllib
+from difflib import get_close_matches
+
+import numpy as np
+
+from . import _scene_dict, _tables
+from .errors import InputError, Interrupted, SolverError
+
+from . import _core  # noqa: E402  (imports rigidae.errors, which must exist first)
+
+__all__ = ["Scene", "Run", "load_scene", "scene_from_dict", "read_scene_dict", "solve", "compare", "study",
+           "read_study", "collect_study", "exact_solution", "quaternion_angle", "InputError", "SolverError",
+           "Interrupted", "OPTIONS", "UNITS", "HAVE_PANDAS"]
+__version__ = _core.version
+
+Scene = _core.Scene
+HAVE_PANDAS = _tables.HAVE_PANDAS
+
+
+# --------------------------------------------------------------------------
+# Options: the CLI's scene overrides, named as keywords
+# --------------------------------------------------------------------------
+
+def _keyword(option):
+    return option[2:].replace("-", "_")
+
+
+def _describe(o):
+    value = f" {o['metavar']}" if o["metavar"] and not o["flag"] else ""
+    extra = [x for x in (o["domain"], f"default {o['default']}" if o["default"] else "", o["unit"]) if x]
+    return f"{o['option']}{value}: {o['help']}" + (f" [{'; '.join(extra)}]" if extra else "")
+
+
+_SOLVE_OPTIONS = [o for o in _core.scene_options("solve") if o["scene_key"]]
+#: Every scene option of solve, keyword name -> its help (from rigidae's table of settings).
+OPTIONS = {_keyword(o["option"]): _describe(o) for o in _SOLVE_OPTIONS}
+_FLAGS = {_keyword(o["option"]) for c in ("solve", "compare") for o in _core.scene_options(c) if o["flag"]}
+
+
+def _option_text(value):
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float):
+        return repr(value)  # shortest text that reads back to the same double
+    if isinstance(value, (list, tuple)):
+        return ",".join(map(str, value))
+    return str(value)
+
+
+def _option_args(options):
+    """Command-line words for the options, in the order given; the command
+    line parser checks them (unknown names, values) with its own words."""
+    args = []
+    for name, value in options.items():
+        if value is None:
+            continue
+        flag = "--" + name.replace("_", "-")
+        if name in _FLAGS:
+            if value is True:
+                args.append(flag)
+            elif value is not False:
+                raise InputError(f"option {flag}: {name}= takes True or False, not {value!r}")
+        else:
+            args.append(f"{flag}={_option_text(value)}")
+    return args
+
+
+# --------------------------------------------------------------------------
+# Scenes
+# --------------------------------------------------------------------------
+
+def load_scene(path, **options):
+    """The scene of a TOML file (docs/scene_format.md), checked by the same code
+    as the CLI; options override it as on the command line (t_end=1.0, ...).
+    Raises InputError with FILE:LINE:COL and what would be valid."""
+    scene = _core.load_scene(os.fspath(path))
+    return _with_options(scene, options)
+
+
+def read_scene_dict(path):
+    """A scene file's contents as a dict (tomllib), to modify and pass to
+    scene_from_dict or solve (e.g. for a parameter sweep)."""
+    with open(path, "rb") as f:
+        return tomllib.load(f)
+
+
+def scene_from_dict(d, **options):
+    """A scene from a dict with the keys of a scene file, e.g.
+    {"schema_version": 1, "body": {"mass": 1.0, "inertia_principal": [1, 2, 3]}, ...}.
+    Checked by the scene loader with the same messages, whose position is the
+    key path: a misspelt key raises InputError("scene['body']['mas']: error:
+    unknown key 'mas' in [body]; did you mean 'mass'? ...") with .key =
+    ('body', 'mas') and .suggestion = 'mass'."""
+    text, where = _scene_dict.to_toml(d)
+    try:
+        scene = _core.parse_scene(text, _scene_dict.SOURCE)
+    except InputError as e:
+        message, key = _scene_dict.relabel(e.message, where)
+        raise InputError(message, key=key) from None
+    return _with_options(scene, options)
+
+
+def _with_options(scene, options, command="solve"):
+    args = _option_args(options)
+    return scene._with_options(command, args) if args else scene
+
+
+def _as_scene(scene, options, command="solve"):
+    if isinstance(scene, dict):
+        scene = scene_from_dict(scene)
+    elif isinstance(scene, (str, os.PathLike)):
+        scene = _core.load_scene(os.fspath(scene))
+    if isinstance(scene, Scene):
+        return _with_options(scene, options, command)
+    raise TypeError(f"scene must be a rigidae.Scene, a path or a dict, not {type(scene).__name__}")
+
+
+def _scene_repr(self):
+    return (f"<rigidae.Scene {self.name!r} from {self.source!r}: {self.coordinates}/{self.equations}/{self.scheme}, "
+            f"t {self.t_start:g}..{self.t_end:g} s, rtol {self.rtol:g}>")
+
+
+Scene.__repr__ = _scene_repr
+
+
+# --------------------------------------------------------------------------
+# Runs
+# --------------------------------------------------------------------------
+
+def _units_by_key():
+    """{"t": "s", "qw..qz": "unit quaternion ...", "omega_*": "rad/s body frame", ...} from the units line."""
+    line = _core.units_line().split(":", 1)[1]
+    return dict(seg.strip().split(" ", 1) for seg in line.split(";") if " " in seg.strip())
+
+
+_UNITS_BY_KEY = _units_by_key()
+
+
+def _unit(column):
+    """The unit of a column of steps.csv / trajectory.csv, as their first line states it."""
+    for key, unit in _UNITS_BY_KEY.items():
+        if key == column or (key.endswith("*") and column.startswith(key[:-1])):
+            return unit
+        if ".." in key:
+            first, last = key.split("..")
+            if len(column) == len(first) and column[:-1] == first[:-1] and first[-1] <= column[-1] <= last[-1]:
+                return unit
+    return {"order": "1 (BDF order)", "chart": "Euler sequence"}.get(column, "?")
+
+
+class _Units(dict):
+    def __missing__(self, column):
+        return _unit(column)
+
+
+#: The unit of any column of Run.steps / Run.grid: UNITS["omega_x"] == "rad/s (body frame)".
+UNITS = _Units()
+
+
+def _structured(columns, rows, charts, integers=("order",)):
+    """A numpy structured array: float64 columns, whole numbers ('order') int64, 'chart' str."""
+    width = max([3] + [len(c) for c in charts])
+    dtype = [(c, np.int64 if c in integers else f"<U{width}" if c == "chart" else np.float64) for c in columns]
+    a = np.empty(rows.shape[0], dtype=dtype)
+    names = np.array(charts if charts else [""], dtype=f"<U{width}")
+    for i, c in enumerate(columns):
+        a[c] = names[rows[:, i].astype(np.intp)] if c == "chart" else rows[:, i]
+    return a
+
+
+_EVENT_DTYPE = [("t", np.float64), ("event", "<U12"), ("from", "<U3"), ("to", "<U3"), ("margin", np.float64),
+                ("drift_position", np.float64), ("drift_velocity", np.float64)]
+
+
+class Run:
+    """One run's results (what `rigidae solve` writes, in memory).
+
+    summary  dict: summary.json (configuration, status, counters, maxima, final state)
+    steps    numpy structured array, one row per IDA step, the columns of
+             steps.csv (t, h, order, qw..qz, omega_x..z, drift_position,
+             drift_velocity, lambda_*/mu_*, energy, energy_rel_error,
+             vertical_momentum, vertical_momentum_rel_error[, chart]);
+             None unless record="steps"
+    grid     the same on the output grid (trajectory.csv's columns: no h, order);
+             None when record="none"
+    events   structured array: chart switches and projections (events.csv)
+    status   "success", "failed" or "interrupted"; message: why it stopped
+    out      the folder the files went to, or None
+    Dtypes: float64, except order (int64) and chart (str, e.g. 'zxz').
+    Units: rigidae.UNITS[column] (SI; as the CSV files' first line).
+    """
+
+    def __init__(self, raw, scene):
+        self.scene = scene
+        self.summary = json.loads(raw["summary"])
+        self.status = raw["status"]
+        self.message = raw["message"]
+        self.out = raw["out"]
+        record = raw["record"]
+        charts = list(raw["charts"])
+        ints = list(raw["integer_columns"])
+        self.steps = _structured(raw["step_columns"], raw["steps"], charts, ints) if record == "steps" else None
+        self.grid = _structured(raw["grid_columns"], raw["grid"], charts, ints) if record != "none" else None
+        self.events = np.array([tuple(e) for e in raw["events"]], dtype=_EVENT_DTYPE)
+
+    @property
+    def ok(self):
+        return self.status == "success"
+
+    @property
+    def counters(self):
+        """IDA's counters (summary['counters'])."""
+        return self.summary["counters"]
+
+    @property
+    def final(self):
+        """The state at the last step (summary['final'])."""
+        return self.summary["final"]
+
+    def __repr__(self):
+        c = self.counters
+        return (f"<rigidae.Run {self.summary['representation']} / {self.summary['scheme']}: {self.status}, "
+                f"t = {self.summary['t_reached']:g} s, {c['steps']} steps, {self.summary['wall_time_s']:.3g} s>")
+
+
+def solve(scene, *, record="steps", out=None, **options):
+    scene = _as_scene(scene, options)
+    raw = _core.solve(scene, record, None if out is None else os.fspath(out))
+    run = Run(raw, scene)
+    if raw["interrupted"] or run.status == "interrupted":
+        raise Interrupted(run.message, run)
+    if run.status != "success":
+        raise SolverError(run.message, run)
+    return run
+
+
+def _options_doc():
+    import textwrap
+    return "\n".join(textwrap.fill(f"{name}= ({text})", width=100, initial_indent="    ",
+                                   subsequent_indent="        ") for name, text in OPTIONS.items())
+
+
+solve.__doc__ = f"""Integrates a scene, as `rigidae solve` does, and returns a Run.
+
+    run = rigidae.solve("problems/heavy_top.toml", coordinates="quaternion",
+                        equations="euler", scheme="ggl", rtol=1e-10)
+
+    scene    a rigidae.Scene, a scene file's path, or a scene dict
+    record   "steps": every IDA step (run.steps) and the output grid (run.grid);
+             "grid": the output grid only; "none": neither (run.summary only)
+    out      a folder: also write steps.csv, trajectory.csv, events.csv and
+             summary.json there, as the CLI does. None (default): no files.
+    options  the CLI's scene overrides, by the same names ('-' as '_'); flags
+             take True. Checked with the CLI's messages (InputError).
+
+    Raises SolverError (the message, and .run with the records up to the
+    failure) when the integrator fails, Interrupted (.run) on Ctrl-C, and
+    InputError for bad input. The GIL is released while it integrates.
+
+    Options:
+{_options_doc()}
+"""
+solve.__signature__ = inspect.Signature(
+    [inspect.Parameter("scene", inspect.Parameter.POSITIONAL_OR_KEYWORD),
+     inspect.Parameter("record", inspect.Parameter.KEYWORD_ONLY, default="steps"),
+     inspect.Parameter("out", inspect.Parameter.KEYWORD_ONLY, default=None)]
+    + [inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=None) for name in OPTIONS])
+
+
+def compare(scene, *, only=None, skip=None, repeat=3, reference=None, reference_rtol=None, out=None,
+            progress=None, as_dataframe=None, **options):
+    """Every applicable coordinates x equations x scheme combination on one
+    scene against one reference, as `rigidae compare`; returns compare.csv's
+    table (one row per combination; a failed one is a row with its message).
+
+    only, skip      patterns (a list or a comma-separated string): 'quaternion/*/ggl'
+                    globs the whole name, a bare word ('ggl', 'linear') matches a part
+    repeat          wall time is the median of this many runs (default 3)
+    reference       'auto' (default: the scene's choice), 'exact' or 'tight'
+    reference_rtol  tolerance of a tight reference (default rtol/100 in [1e-13, 1e-12])
+    out             folder for compare.csv, compare.txt, compare.md and every run's
+                    files; None: a temporary folder, deleted afterwards
+    progress        called with one line per finished run (e.g. print)
+    as_dataframe    None: a DataFrame if pandas is importable, else a dict of arrays
+    options         scene overrides as for solve(), except coordinates, equations, scheme
+
+    Raises SolverError (with .table) when the reference could not be computed."""
+    scene = _as_scene(scene, {})
+    args = _option_args(dict(options, repeat=repeat, only=only, skip=skip, reference=reference,
+                             reference_rtol=reference_rtol))
+    with tempfile.TemporaryDirectory(prefix="rigidae-compare-") as tmp:
+        folder = os.fspath(out) if out is not None else tmp
+        raw = _core.compare(scene, args, folder, progress)
+        result = _tables.read_csv(os.path.join(folder, "compare.csv"), as_dataframe)
+    if not raw["reference_ok"]:
+        e = SolverError(raw["reference_message"])
+        e.table = result
+        raise e
+    return result
+
+
+# --------------------------------------------------------------------------
+# Studies
+# --------------------------------------------------------------------------
+
+def _study_out(spec, out):
+    return os.fspath(out) if out is not None else os.path.join("out", spec.name)
+
+
+def study(path, *, out=None, shard=None, run=None, collect=True, progress=None, as_dataframe=None):
+    """Runs an accuracy study file (docs/studies.md), as `rigidae study`, and
+    returns its results.csv table (one row per run: errors, work, timings).
+
+    out       the study folder (default out/STUDY_NAME, as the CLI); complete
+              runs there are never redone, so an interrupted study resumes
+    shard     "i/N": only runs k with k % N == i (then nothing is collected, None returned)
+    run       one run's id (see rigidae.load_study(path).run_ids())
+    collect   merge the run folders into results.csv and best.txt afterwards
+    progress  called as progress(done, skipped, failed, total, last_run_id)
+    Figures: `/usr/bin/python3 tools/plot_study.py OUT` as the CLI draws them."""
+    spec = _core.load_study(os.fspath(path))
+    folder = _study_out(spec, out)
+    _core.run_study(spec, folder, shard, run, progress)
+    if shard is not None or run is not None or not collect:
+        return None
+    _core.collect_study(spec, folder)
+    return read_study(folder, as_dataframe)
+
+
+def load_study(path):
+    """A study file, checked (InputError with FILE:LINE:COL); .run_ids() lists its runs."""
+    return _core.load_study(os.fspath(path))
+
+
+def collect_study(path, out=None):
+    """Merges a study's complete run folders into OUT/results.csv and the
+    best-per-target table; returns (best table text, ids of runs missing)."""
+    spec = _core.load_study(os.fspath(path))
+    return _core.collect_study(spec, _study_out(spec, out))
+
+
+def read_study(out, as_dataframe=None):
+    """A collected study's OUT/results.csv as a table (DataFrame or dict of arrays)."""
+    return _tables.read_csv(os.path.join(os.fspath(out), "results.csv"), as_dataframe)
+
+
+# --------------------------------------------------------------------------
+# References
+# --------------------------------------------------------------------------
+
+def exact_solution(scene, times):
+    """The closed-form solution of a scene (a torque-free body, or a symmetric
+    Lagrange top) at the given times, as a structured array with the columns
+    t, qw, qx, qy, qz, omega_x, omega_y, omega_z (the quaternion continuous in
+    time). InputError says why when the scene has no closed form."""
+    scene = _as_scene(scene, {})
+    times = np.atleast_1d(np.asarray(times, dtype=np.float64))
+    raw = _core.exact_solution(scene, times.tolist())
+    return _structured(raw["columns"], raw["rows"], [])
+
+
+def quaternion_angle(a, b):
+    """Rotation angle (rad) between orientations given as unit quaternions:
+    arrays (..., 4) scalar first, or structured arrays with qw..qz columns."""
+    def q(x):
+        if getattr(x, "dtype", None) is not None and x.dtype.names:
+            return np.stack([x["qw"], x["qx"], x["qy"], x["qz"]], axis=-1)
+        return np.asarray(x, dtype=np.float64)
+
+    a, b = q(a), q(b)
+    # The quaternions (sign aligned) are 4-vectors half the rotation angle
+    # apart: |a - b| = 2 sin(angle/4), accurate for small angles, unlike acos.
+    sign = np.where(np.sum(a * b, axis=-1) >= 0, 1.0, -1.0)
+    diff = np.linalg.norm(a - sign[..., None] * b, axis=-1)
+    return 4.0 * np.arcsin(np.clip(diff / 2.0, 0.0, 1.0))
