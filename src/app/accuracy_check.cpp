@@ -15,19 +15,28 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Limits, as multiples of the tolerance tau. Measured on
-// problems/dzhanibekov.toml (tests/unit/test_accuracy_check.cpp) and the
-// shipped scenes; docs/accuracy_check.md gives the numbers.
-//
-// Invariants (energy, momenta): a run that keeps the local error of every
-// step below tau changes an invariant by about tau per step only when the
-// errors add up coherently; BDF's errors are mostly coherent (it damps), so
-// the drift grows with the number of steps. Runs whose answers were right
-// drifted up to PLACEHOLDER tau; the runs that lost the flip phase drifted
-// PLACEHOLDER tau and more.
-constexpr double kInvariantLimit = 1e3;
-// Constraints: PLACEHOLDER
-constexpr double kConstraintLimit = 1e3;
+// Limits. Each step's local error passes IDA's test at about tau (relative);
+// an invariant that the equations conserve changes only by such errors. If
+// the N steps' errors were independent, the drift after N steps would be
+// about tau sqrt(N) (a random walk); it is larger when the errors add up
+// coherently, which is what happens where a formulation is poorly
+// conditioned (measured: Lagrange forms on the intermediate-axis body).
+// Measured on problems/dzhanibekov.toml (200 s, 19 flips) at rtol = atol =
+// 1e-6, 1e-8 and 1e-10, drift / (tau sqrt N), the larger of energy and
+// momentum: every Euler-form run with quaternion or linear coordinates
+// (errors <= 1.3e-2 rad at 1e-6, <= 8e-5 rad at 1e-10) stayed within 1.34;
+// at rtol 1e-10 every Lagrange-form run (errors 1.3e-2 to 3.1 rad) reached
+// 2.2 to 3500. The limit 2 lies between.
+constexpr double kInvariantRandomWalkLimit = 2.0;
+// Constraints are not conserved by the index-1 and index-2 forms (no position
+// stabilisation): their drift grows about linearly, by at most ~tau per
+// step when each step's local error is controlled (measured 0.1-1.3 tau per
+// step, Euler forms). More than 10 tau per step (measured: linear/lagrange/
+// index1, 26) means the error control does not see the constraint. The
+// drift normal to the manifold does not enter the orientation read off
+// (normalised quaternion, polar factor of R) to first order, so this limit
+// is loose on purpose.
+constexpr double kConstraintPerStepLimit = 10.0;
 
 }  // namespace
 
@@ -59,6 +68,7 @@ InvariantMonitor::InvariantMonitor(const DaeSystem& dae, const Scene& scene, Run
 
 void InvariantMonitor::on_step(double t, double h, int order, const Eigen::VectorXd& y) {
   recorder_.on_step(t, h, order, y);
+  ++steps_;
   if (!checked_) return;
   const Observation& o = recorder_.extremes().last;  // this step's, just observed
   d_.energy = std::max(d_.energy, std::abs(o.energy - e0_) / e_scale_);
@@ -77,21 +87,23 @@ void InvariantMonitor::on_step(double t, double h, int order, const Eigen::Vecto
 
 std::vector<AccuracyWarning> InvariantMonitor::warnings() const {
   std::vector<AccuracyWarning> w;
-  auto check = [&](const char* quantity, double drift, double factor, const char* what) {
+  const double n = static_cast<double>(std::max<long>(steps_, 1));
+  auto check = [&](const char* quantity, double drift, double factor, const char* law, const char* what) {
     if (std::isnan(drift)) return;
     const double limit = factor * d_.tolerance;
     if (!(drift > limit) && std::isfinite(drift)) return;
     w.push_back({quantity, drift, limit, factor, d_.tolerance,
-                 fmt::format("{} drifted {:.2e} ({}), {:.3g} x the tolerance {:.2e} (limit {:g} x); the "
-                             "results may be far less accurate than the tolerance suggests",
-                             quantity, drift, what, drift / d_.tolerance, d_.tolerance, factor)});
+                 fmt::format("{} drifted {:.2e} ({}), {:.3g} x the tolerance {:.2e}, past the limit {} = {:.3g} x "
+                             "over {} steps: the results may be far less accurate than the tolerance suggests",
+                             quantity, drift, what, drift / d_.tolerance, d_.tolerance, law, factor, steps_)});
   };
-  check("energy", d_.energy, kInvariantLimit, "relative to the kinetic plus exchangeable energy");
-  check("angular_momentum", d_.angular_momentum, kInvariantLimit, "|L - L0| relative to the largest momentum");
-  check("vertical_angular_momentum", d_.vertical_angular_momentum, kInvariantLimit,
+  const double walk = kInvariantRandomWalkLimit * std::sqrt(n), per_step = kConstraintPerStepLimit * n;
+  check("energy", d_.energy, walk, "2 tau sqrt(N)", "relative to the kinetic plus exchangeable energy");
+  check("angular_momentum", d_.angular_momentum, walk, "2 tau sqrt(N)", "|L - L0| relative to the largest momentum");
+  check("vertical_angular_momentum", d_.vertical_angular_momentum, walk, "2 tau sqrt(N)",
         "relative to the largest momentum");
-  check("constraint_position", d_.constraint_position, kConstraintLimit, "|Phi(q)|");
-  check("constraint_velocity", d_.constraint_velocity, kConstraintLimit,
+  check("constraint_position", d_.constraint_position, per_step, "10 tau N", "|Phi(q)|");
+  check("constraint_velocity", d_.constraint_velocity, per_step, "10 tau N",
         "|dPhi/dt| relative to the largest angular speed");
   return w;
 }
@@ -99,7 +111,8 @@ std::vector<AccuracyWarning> InvariantMonitor::warnings() const {
 std::string warnings_cell(const std::vector<AccuracyWarning>& w) {
   std::string s;
   for (const AccuracyWarning& a : w)
-    s += fmt::format("{}{} {:.2g} tol", s.empty() ? "" : "; ", a.quantity, a.drift / a.tolerance);
+    s += fmt::format("{}{} {:.2g} tol (limit {:.2g})", s.empty() ? "" : "; ", a.quantity, a.drift / a.tolerance,
+                     a.factor);
   return s;
 }
 

@@ -182,12 +182,12 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
   o.note = dae->scheme().note(dae->representation());
   o.multiplier_names = dae->multiplier_names();
 
-  RunRecorder recorder(*dae, scene, out_dir);
+  SingleBodyProblem problem(*dae, scene.formulation.euler, scene.R0_WB, scene.omega0_B, scene.source);
+  RunRecorder recorder(problem, scene, out_dir);
   InvariantMonitor monitor(*dae, scene, recorder);
   const auto t0 = std::chrono::steady_clock::now();
   std::string lost;  // the first output file that could not be written completely
   try {
-    SingleBodyProblem problem(*dae, scene.formulation.euler, scene.R0_WB, scene.omega0_B, scene.source);
     o.run = integrate(problem, scene.solver, scene.time, monitor);
   } catch (const SolverError& e) {
     o.run.status = RunStatus::Failed;

@@ -94,9 +94,11 @@ const Column kColumns[] = {
     {"reference", "/reference", Kind::Quoted},
     {"run_dir", "/id", Kind::Text},
     {"message", "/message", Kind::Quoted},
+    {"warnings", "/warning_summary", Kind::Quoted},  // accuracy-check warnings (app/accuracy_check.hpp)
 };
 
 std::string cell(const json& run, const Column& c) {
+  if (!run.contains(json::json_pointer(c.pointer))) return "";  // a record from before the column existed
   const json& v = run.at(json::json_pointer(c.pointer));
   switch (c.kind) {
     case Kind::Text: return v.get<std::string>();

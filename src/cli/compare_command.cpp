@@ -11,6 +11,7 @@
 #include "rigidae/core/error.hpp"
 #include "plot_script.hpp"
 #include "rigidae/app/command_line.hpp"
+#include "output_folder.hpp"
 
 namespace rigidae::cli {
 
@@ -38,15 +39,14 @@ int compare_command(const std::vector<std::string>& args) {
   CompareOptions opt;
   const bool quiet = cl.has("--quiet"), plot = cl.has("--plot");
   opt.out = cl.text("--out");
+  opt.keep_steps = plot || cl.has("--keep-steps");  // the figures read the step files
   if (const auto* n = cl.last("--repeat")) opt.repeat = static_cast<int>(std::get<long long>(*n));
   if (cl.has("--only")) opt.only = split_list(cl.text("--only"));
   if (cl.has("--skip")) opt.skip = split_list(cl.text("--skip"));
   if (const auto* x = cl.last("--reference-rtol")) opt.reference_rtol = std::get<double>(*x);
   if (opt.out.empty()) opt.out = std::filesystem::path("out") / fmt::format("{}-compare", scene.name.empty() ? "scene" : scene.name);
 
-  std::error_code ec;
-  std::filesystem::create_directories(opt.out, ec);
-  if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", opt.out.string(), ec.message()));
+  create_output_folder(opt.out, /*disposable=*/false);
 
   const CompareReport report = compare_scene(scene, opt, [&](const std::string& line) {
     if (!quiet) fmt::print(stderr, "{}\n", line);

@@ -13,6 +13,7 @@
 #include "rigidae/solver/ida_driver.hpp"
 #include "rigidae/app/command_line.hpp"
 #include "rigidae/core/text.hpp"
+#include "output_folder.hpp"
 
 namespace {
 
@@ -87,6 +88,7 @@ int main(int argc, char** argv) {
   try {
     return run(argc, argv);
   } catch (const InputError& e) {
+    cli::remove_rejected_output_folders();
     // Scene-file errors already read "FILE:LINE:COL: error: ..."
     const std::string msg = e.what();
     fmt::print(stderr, "{}{}\n", msg.find(": error: ") == std::string::npos ? "rigidae: error: " : "", msg);

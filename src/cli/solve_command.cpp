@@ -5,6 +5,7 @@
 #include "rigidae/app/solve.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/app/command_line.hpp"
+#include "output_folder.hpp"
 
 namespace rigidae::cli {
 
@@ -58,6 +59,7 @@ int solve_command(const std::vector<std::string>& args) {
 
   const std::filesystem::path out =
       out_arg.empty() ? std::filesystem::path("out") / default_run_name(scene) : std::filesystem::path(out_arg);
+  create_output_folder(out, /*disposable=*/true);
   const SolveOutcome o = solve_scene(scene, out);
   if (!quiet || o.run.status != RunStatus::Success) print_report(scene, o);
   // Accuracy warnings (app/accuracy_check.hpp) reach stderr even with --quiet.

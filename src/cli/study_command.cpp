@@ -11,6 +11,7 @@
 
 #include "rigidae/app/command_line.hpp"
 #include "commands.hpp"
+#include "output_folder.hpp"
 #include "plot_script.hpp"
 #include "rigidae/app/study.hpp"
 #include "rigidae/core/error.hpp"
@@ -29,7 +30,7 @@ struct StudyCommandLine {
   fs::path out;
   std::optional<Shard> shard;
   std::string run_id;
-  bool plot = true, partial = false, quiet = false;
+  bool plot = true, partial = false, quiet = false, keep_steps = false;
 };
 
 constexpr std::array<std::string_view, 3> kSubcommands{"list", "run", "collect"};
@@ -62,6 +63,7 @@ StudyCommandLine parse(const CommandLine& cl) {
   c.plot = !cl.has("--no-plot");
   c.partial = cl.has("--partial");
   c.quiet = cl.has("--quiet");
+  c.keep_steps = cl.has("--keep-steps");
   if ((c.shard || !c.run_id.empty()) && c.action != "run")
     throw InputError("--shard and --run apply to 'rigidae study run' only");
   if (c.shard && !c.run_id.empty()) throw InputError("give either --shard or --run, not both");
@@ -132,8 +134,7 @@ int study_command(const std::vector<std::string>& args) {
   const StudySpec spec = load_study(c.file);
   if (c.out.empty()) c.out = fs::path("out") / spec.name;
   std::error_code ec;
-  fs::create_directories(c.out, ec);
-  if (ec) throw InputError(fmt::format("{}: cannot create the study folder: {}", c.out.string(), ec.message()));
+  create_output_folder(c.out, /*disposable=*/false);
 
   const std::vector<StudyRun> plan = plan_study(spec);
   if (c.action == "list") {
@@ -162,6 +163,7 @@ int study_command(const std::vector<std::string>& args) {
   ProgressLine progress(c.quiet);
   StudyRunOptions opt;
   opt.out = c.out;
+  opt.keep_steps = c.keep_steps;
   opt.progress = [&](const StudyProgress& p) { progress.update(p); };
   if (!run_study(spec, todo, opt)) {
     fmt::print(stderr, "\nrigidae: study interrupted; complete runs are kept, rerun the same command to resume\n");

@@ -8,6 +8,7 @@
 // "FILE:LINE:COL: error: " (the position of the offending key or value, or of
 // the enclosing table when a key is missing) and says what would be valid.
 #include "rigidae/io/scene_loader.hpp"
+#include "parse_hints.hpp"
 #include "rigidae/schemes/scheme.hpp"
 
 #include <fmt/format.h>
@@ -238,13 +239,18 @@ InertiaSource read_body(const TomlReader& r, const toml::table& root, Scene& sce
 std::string fmt_moments(const Vec3& J) { return fmt::format("J1 = {}, J2 = {}, J3 = {}", J[0], J[1], J[2]); }
 
 // The triangle inequality of the principal moments. J_i <= J_j + J_k holds for
-// every mass distribution; equality means all the mass lies in one plane
-// through the reference point, and then the second moment of mass
-// (tr(J)/2 I - J) is singular -- the rotation is not determined by the motion
-// of the material points, and the linear-coordinate formulation has a
-// singular mass matrix. The reference point is the one the body rotates
-// about: the fixed point of a top, the centre of mass of a free body.
-// J_i <= J_j + J_k (non-strict): every mass distribution obeys it.
+// every mass distribution; a scene that breaks it describes no body and is
+// refused. Equality is a lamina (all the mass in one plane through the centre
+// of mass, or, for a top, through the fixed point, which the parallel-axis
+// shift keeps valid): accepted. Its Euler tensor tr(J)/2 I - J is singular
+// along the plane's normal, so the mass matrix of the linear-coordinate and
+// quaternion Lagrange forms is singular in that direction, but not on the
+// constraint manifold's tangent space (a change R' = a n^T is never tangent
+// to SO(3)), so [M G^T; G 0] stays regular; the Euler forms and Euler angles
+// use J itself, positive definite. Measured: all 26 combinations on the
+// lamina (1, 2, 3) as accurate as on (1, 2, 2.9) (tests/unit/test_flat_body.cpp).
+// A moment of zero (a rod, a point) is refused earlier: J is then singular.
+// Shared with schema 2's bodies (scene_sections.hpp).
 void check_possible_moments_impl(const TomlReader& r, const toml::node& node, std::string_view name,
                                  const Mat3& Ic) {
   const Vec3 Jc = Eigen::SelfAdjointEigenSolver<Mat3>(Ic).eigenvalues();
@@ -255,40 +261,14 @@ void check_possible_moments_impl(const TomlReader& r, const toml::node& node, st
       r.fail(node,
              fmt::format("'{}': the principal moments about the centre of mass ({}) violate the "
                          "triangle inequality: J{} = {} exceeds the sum of the other two ({}); no "
-                         "mass distribution has these moments (valid: J1 < J2 + J3, J2 < J1 + J3, "
-                         "J3 < J1 + J2)",
+                         "mass distribution has these moments (valid: J1 <= J2 + J3, J2 <= J1 + J3, "
+                         "J3 <= J1 + J2; equality is a lamina)",
                          name, fmt_moments(Jc), i + 1, Jc[i], others));
   }
 }
 
 void check_triangle_inequality(const TomlReader& r, const InertiaSource& src, const Scene& scene) {
-  const Mat3& Ic = scene.body.inertia_com;
-  check_possible_moments_impl(r, *src.node, src.name, Ic);
-
-  const bool fixed = scene.support == Support::FixedPoint;
-  const Vec3& c = scene.body.com_B;
-  const Mat3 I = fixed ? Mat3(Ic + scene.body.mass * (c.squaredNorm() * Mat3::Identity() - c * c.transpose()))
-                       : Ic;
-  const Vec3 J = Eigen::SelfAdjointEigenSolver<Mat3>(I).eigenvalues();
-  const double trace = J.sum();
-  const char* about = fixed ? "about the fixed point" : "about the centre of mass";
-  for (int i = 0; i < 3; ++i) {
-    const double others = trace - J[i];
-    if (J[i] >= others - kTriangleTol * trace)
-      r.fail(*src.node,
-             fmt::format("'{}': the principal moments {} ({}) break the strict triangle "
-                         "inequality: J{} = {} is not less than the sum of the other two ({}), so "
-                         "all the mass lies in one plane through {} -- a body with no thickness "
-                         "is not a rigid body here (valid: J1 < J2 + J3, J2 < J1 + J3 and "
-                         "J3 < J1 + J2, with a relative margin of {:g}){}",
-                         src.name, about, fmt_moments(J), i + 1, J[i], others,
-                         fixed ? "the fixed point" : "the centre of mass", kTriangleTol,
-                         fixed && c.squaredNorm() > 0.0
-                             ? fmt::format("; moments about the fixed point are J_com + m(|c|^2 I "
-                                           "- c c^T) with the centre of mass c = {}",
-                                           fmt_vec(c))
-                             : std::string()));
-  }
+  check_possible_moments_impl(r, *src.node, src.name, scene.body.inertia_com);
 }
 
 void read_support(const TomlReader& r, const toml::table& root, Scene& scene) {
@@ -369,7 +349,7 @@ std::optional<Mat3> read_orientation_impl(const TomlReader& r, const toml::table
   if (form_name == "quaternion") {
     const std::string qname = name_of("quaternion");
     const Vec4 q = r.vector<4>(*form, qname);
-    const double n = q.norm();
+    const double n = q.stableNorm();  // a norm of 1e-300 is not zero (squaring would make it so)
     if (n == 0.0)
       r.fail(*form, fmt::format("'{}' has zero norm; give a unit quaternion (w, x, y, z), "
                                 "scalar first, e.g. [1.0, 0.0, 0.0, 0.0] for the identity",
@@ -453,10 +433,11 @@ void read_initial(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::node& w_node =
       r.required(init, "initial", "angular_velocity", "[wx, wy, wz] in rad/s");
   const Vec3 w = r.vec3(w_node, "initial.angular_velocity");
-  if (w.norm() > kMaxAngularVelocity)
+  // stableNorm: |(1e300, 0, 0)| is 1e300, not the inf that squaring gives.
+  if (w.stableNorm() > kMaxAngularVelocity)
     r.fail(w_node, fmt::format("|initial.angular_velocity| = {} rad/s is too large; it must be at "
                                "most {:g} rad/s (check the units: rad/s, not rpm or deg/s)",
-                               w.norm(), kMaxAngularVelocity));
+                               w.stableNorm(), kMaxAngularVelocity));
   bool space = false;
   if (const toml::node* f = init.get("angular_velocity_frame")) {
     constexpr std::array<std::string_view, 2> opts{"body", "space"};
@@ -657,6 +638,7 @@ std::string explain_parse_error(std::string_view text, const toml::parse_error& 
     msg += fmt::format(" (the character there is U+{:04X}, not ASCII: keys without quotes, numbers, '=' and "
                        "the spaces between them must be ASCII; look for a look-alike letter, digit or space)",
                        cp);
+  msg += io::parse_error_hint(text, e.description(), e.source().begin.line);  // JSON look-alikes
   return msg;
 }
 

@@ -22,12 +22,12 @@ CsvStream::CsvStream(const std::filesystem::path& path, const std::string& units
   stream_.write(fmt::format("{}\n{}\n", units_comment, header));
 }
 
-RunRecorder::RunRecorder(const DaeSystem& dae, const Scene& scene, const std::filesystem::path& out_dir)
-    : dae_(dae),
-      multiplier_names_(dae.multiplier_names()),
-      with_chart_(dae.representation().has_charts()),
-      step_observer_(dae, scene),
-      grid_observer_(dae, scene),
+RunRecorder::RunRecorder(const SingleBodyProblem& problem, const Scene& scene, const std::filesystem::path& out_dir)
+    : problem_(problem),
+      multiplier_names_(problem.system().multiplier_names()),
+      with_chart_(problem.representation().has_charts()),
+      step_observer_(problem.system(), scene),
+      grid_observer_(problem.system(), scene),
       steps_(out_dir / "steps.csv", columns::units_line(),
              columns::header(columns::kSteps, multiplier_names_, with_chart_)),
       trajectory_(out_dir / "trajectory.csv", columns::units_line(),
@@ -48,8 +48,8 @@ void RunRecorder::write_row(CheckedStream& f, columns::File file, const columns:
 }
 
 void RunRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& y) {
-  const Observation o = step_observer_.observe(t, y);
-  const std::string chart = with_chart_ ? dae_.representation().chart_name() : std::string();
+  const Observation o = step_observer_.observe(t, y, problem_.chart());
+  const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
   write_row(steps_.file(), columns::kSteps, {t, h, order, &o, chart});
   RunExtremes& e = extremes_;
   ++e.steps_recorded;
@@ -63,8 +63,8 @@ void RunRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& 
 }
 
 void RunRecorder::on_output(double t, const Eigen::VectorXd& y) {
-  const Observation o = grid_observer_.observe(t, y);
-  const std::string chart = with_chart_ ? dae_.representation().chart_name() : std::string();
+  const Observation o = grid_observer_.observe(t, y, problem_.chart());
+  const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
   write_row(trajectory_.file(), columns::kTrajectory, {t, 0.0, 0, &o, chart});
   if (extremes_.steps_recorded == 0) extremes_.last = o;
 }

@@ -223,6 +223,10 @@ std::vector<Setting> make_table() {
        .help = "output folder"});
   row({.option = "--plot", .commands = kCompare, .kind = Kind::Boolean, .flag_value = "true", .default_text = "off",
        .help = "draw figures with tools/plot_compare.py into DIR/figures"});
+  row({.option = "--keep-steps", .commands = kCompare | kStudy, .kind = Kind::Boolean, .flag_value = "true",
+       .default_text = "off",
+       .help = "keep each run's steps.csv (otherwise only summary.json, trajectory.csv and events.csv stay; "
+               "compare --plot keeps them, the figures read them)"});
   row({.option = "--no-plot", .commands = kStudy, .kind = Kind::Boolean, .flag_value = "true",
        .default_text = "off", .help = "(study, study collect) skip the figures (tools/plot_study.py)"});
   row({.option = "--partial", .commands = kStudy, .kind = Kind::Boolean, .flag_value = "true",

@@ -24,9 +24,10 @@
 //   tau = rtol + atol / min(1, w_s),
 // the relative accuracy IDA's error test asks of the least well scaled
 // differential unknown (coordinates are O(1), angular velocities O(w_s)).
-// A measure above its limit (a multiple of tau, see kInvariantLimit and
-// kConstraintLimit in accuracy_check.cpp for the values and why) gives a
-// warning; the run's status is untouched. Scenes with several bodies
+// A measure above its limit gives a warning; the run's status is untouched.
+// Limits, for N accepted steps (accuracy_check.cpp says why):
+//   energy and momenta     2 tau sqrt(N)   (a random walk of per-step errors)
+//   constraints            10 tau N        (10 tau of drift per step) Scenes with several bodies
 // (schema 2) are not checked yet.
 #include <string>
 #include <vector>
@@ -42,7 +43,7 @@ struct AccuracyWarning {
   std::string quantity;  // one of the measure names above
   double drift = 0.0;    // the measure's maximum
   double limit = 0.0;    // the limit it passed (factor x tolerance)
-  double factor = 0.0;   // limit / tolerance
+  double factor = 0.0;   // limit / tolerance (2 sqrt(N) or 10 N)
   double tolerance = 0.0;
   std::string message;   // one line for a person
 };
@@ -74,6 +75,7 @@ class InvariantMonitor final : public StepSink {
   Vec3 L0_W_;
   double lz0_;
   InvariantDrifts d_;
+  long steps_ = 0;
 };
 
 // The warnings as one short text for a table cell ("energy 3.1e+03 tau;
