@@ -1,13 +1,13 @@
 #include "rigidae/app/solve.hpp"
 
 #include <fmt/format.h>
-#include <sundials/sundials_config.h>
 
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <algorithm>
 #include <variant>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "rigidae/core/error.hpp"
@@ -17,6 +17,7 @@
 #include "rigidae/record/columns.hpp"
 #include "rigidae/settings/settings.hpp"
 #include "rigidae/so3/rotation.hpp"
+#include "rigidae/solver/version.hpp"
 
 namespace rigidae {
 
@@ -30,9 +31,20 @@ nlohmann::json mat_json(const Mat3& M) {
   return {vec_json(M.row(0).transpose()), vec_json(M.row(1).transpose()), vec_json(M.row(2).transpose())};
 }
 
+// A parameter as the scheme used it; a scheme that does not use it leaves
+// the scene's setting (null when unset: the default is resolved by the
+// scheme that uses it).
+nlohmann::json used_or_set(const std::vector<SchemeParameter>& used, const std::string& name,
+                           const std::optional<double>& set) {
+  for (const auto& p : used)
+    if (p.name == name) return p.value;
+  return set ? nlohmann::json(*set) : nlohmann::json(nullptr);
+}
+
 // The scene's body and initial state, then every run setting of the table
-// (rigidae/settings) at its dotted key, defaults resolved as the run uses them.
-nlohmann::json configuration_json(const Scene& s) {
+// (rigidae/settings) at its dotted key, and the scheme's parameters as the
+// scheme used them.
+nlohmann::json configuration_json(const Scene& s, const std::vector<SchemeParameter>& used) {
   nlohmann::json j = {
       {"scene", s.source},
       {"name", s.name},
@@ -52,6 +64,9 @@ nlohmann::json configuration_json(const Scene& s) {
     std::replace(pointer.begin(), pointer.end(), '.', '/');
     j[nlohmann::json::json_pointer(pointer)] = value;
   }
+  j["formulation"]["baumgarte"]["a"] = used_or_set(used, "a", s.formulation.baumgarte.a);
+  j["formulation"]["baumgarte"]["b"] = used_or_set(used, "b", s.formulation.baumgarte.b);
+  j["formulation"]["projection"]["threshold"] = used_or_set(used, "threshold", s.formulation.projection.threshold);
   return j;
 }
 
@@ -109,11 +124,11 @@ void write_summary(const std::filesystem::path& path, const Scene& scene, const 
 
   nlohmann::json j = {
       {"units", "SI: s, rad, rad/s, J, kg m^2/s; quaternions scalar first, R_WB body to space"},
-      {"configuration", configuration_json(scene)},
+      {"configuration", configuration_json(scene, o.scheme_parameters)},
       {"representation", o.representation},
       {"scheme", o.scheme},
       {"note", o.note},
-      {"versions", {{"rigidae", RIGIDAE_VERSION}, {"sundials", SUNDIALS_VERSION},
+      {"versions", {{"rigidae", RIGIDAE_VERSION}, {"sundials", sundials_version()},
                     {"eigen", fmt::format("{}.{}.{}", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION)}}},
       {"status", to_string(o.run.status)},
       {"message", o.run.message},
@@ -181,6 +196,7 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
   o.scheme = dae->scheme().name();
   o.note = dae->scheme().note(dae->representation());
   o.multiplier_names = dae->multiplier_names();
+  o.scheme_parameters = dae->scheme().parameters();
 
   SingleBodyProblem problem(*dae, scene.formulation.euler, scene.R0_WB, scene.omega0_B, scene.source);
   RunRecorder recorder(problem, scene, out_dir);

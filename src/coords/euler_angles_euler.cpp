@@ -60,8 +60,8 @@ class EulerAnglesEuler final : public EulerAnglesRepresentation {
 
 }  // namespace
 
-std::unique_ptr<Representation> make_euler_angles_euler(const Scene& scene, const RigidBodyModel& body) {
-  return std::make_unique<EulerAnglesEuler>(body, start_sequence(scene));
+std::unique_ptr<Representation> make_euler_angles_euler(const RigidBodyModel& body, const so3::EulerSequence& start_chart) {
+  return std::make_unique<EulerAnglesEuler>(body, start_chart);
 }
 
 }  // namespace rigidae::coords

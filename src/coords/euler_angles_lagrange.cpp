@@ -89,8 +89,8 @@ class EulerAnglesLagrange final : public EulerAnglesRepresentation {
 
 }  // namespace
 
-std::unique_ptr<Representation> make_euler_angles_lagrange(const Scene& scene, const RigidBodyModel& body) {
-  return std::make_unique<EulerAnglesLagrange>(body, start_sequence(scene));
+std::unique_ptr<Representation> make_euler_angles_lagrange(const RigidBodyModel& body, const so3::EulerSequence& start_chart) {
+  return std::make_unique<EulerAnglesLagrange>(body, start_chart);
 }
 
 }  // namespace rigidae::coords

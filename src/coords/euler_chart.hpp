@@ -34,12 +34,6 @@ class EulerChart {
   so3::EulerSequence seq_;
 };
 
-// The chart a run starts in: the scene's sequence if it names one, else the
-// most regular at the initial orientation.
-inline so3::EulerSequence start_sequence(const Scene& scene) {
-  return scene.formulation.euler.sequence.value_or(so3::most_regular_sequence(scene.R0_WB));
-}
-
 // dB/d(angle m), m = 0, 1, 2, from the columns (col0, col1, e_k) of B (see
 // so3::euler_rate_matrix): B does not depend on the first angle;
 // d col0/db = col0 x col1 (from d Rj^T/db = -hat(e_j) Rj^T); and

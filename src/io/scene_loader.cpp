@@ -250,7 +250,8 @@ std::string fmt_moments(const Vec3& J) { return fmt::format("J1 = {}, J2 = {}, J
 // use J itself, positive definite. Measured: all 26 combinations on the
 // lamina (1, 2, 3) as accurate as on (1, 2, 2.9) (tests/unit/test_flat_body.cpp).
 // A moment of zero (a rod, a point) is refused earlier: J is then singular.
-// Shared with schema 2's bodies (scene_sections.hpp).
+// Shared with the schema-2 loader (one body of many, its moments about its
+// centre of mass).
 void check_possible_moments_impl(const TomlReader& r, const toml::node& node, std::string_view name,
                                  const Mat3& Ic) {
   const Vec3 Jc = Eigen::SelfAdjointEigenSolver<Mat3>(Ic).eigenvalues();

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <ida/ida.h>
 #include <nvector/nvector_serial.h>
+#include <sundials/sundials_config.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunlinsol/sunlinsol_klu.h>
@@ -18,10 +19,13 @@
 
 #include "central_differences.hpp"
 #include "rigidae/core/error.hpp"
+#include "rigidae/solver/version.hpp"
 
 namespace rigidae {
 
 std::atomic<bool> g_interrupt_requested{false};
+
+std::string sundials_version() { return SUNDIALS_VERSION; }
 
 std::string to_string(RunStatus s) {
   switch (s) {

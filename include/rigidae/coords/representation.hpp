@@ -23,6 +23,7 @@
 #include "rigidae/core/types.hpp"
 #include "rigidae/model/rigid_body.hpp"
 #include "rigidae/model/scene.hpp"
+#include "rigidae/so3/euler_sequence.hpp"
 
 namespace rigidae {
 
@@ -119,8 +120,17 @@ class Representation {
   virtual std::unique_ptr<Representation> in_chart(int c) const;
 };
 
-// Builds the representation a scene asks for (coordinates x equations).
-// Throws InputError for a combination that does not exist.
+// The registered representation by name ("quaternion/lagrange"), starting
+// in chart `start_chart` where it has charts (Euler angles). Throws
+// InputError naming the valid names for an unknown one.
+std::unique_ptr<Representation> make_representation(const std::string& name, const RigidBodyModel& body,
+                                                    const so3::EulerSequence& start_chart);
+// Every registered name, in the registry's order.
+std::vector<std::string> representation_names();
+// The registry name of a (coordinates, equations) pair.
+std::string representation_name(Coordinates c, Equations e);
+// The representation a scene's formulation names, in the chart it starts in
+// (the scene's sequence, or the most regular at the initial orientation).
 std::unique_ptr<Representation> make_representation(const Scene& scene, const RigidBodyModel& body);
 
 // Names for messages and reports.
