@@ -26,10 +26,13 @@ ALLOWED = {
     "solver": {"core"},
     "dae": {"core", "so3", "model", "coords", "schemes", "solver"},
     "multibody": {"core", "so3", "model", "coords", "schemes", "solver"},
-    "record": {"core", "so3", "model", "coords", "schemes", "dae", "solver"},
-    "io": {"core", "so3", "model", "exact", "schemes"},
-    "app": {"core", "so3", "model", "exact", "coords", "schemes", "solver", "dae", "multibody", "record", "io"},
-    "cli": {"core", "so3", "model", "exact", "coords", "schemes", "solver", "dae", "multibody", "record", "io", "app"},
+    "record": {"core", "so3", "model", "coords", "schemes", "dae", "solver", "io"},
+    "settings": {"core", "so3", "model", "schemes"},
+    "io": {"core", "so3", "model", "exact", "schemes", "settings"},
+    "app": {"core", "so3", "model", "exact", "coords", "schemes", "solver", "dae", "multibody", "record", "io",
+            "settings"},
+    "cli": {"core", "so3", "model", "exact", "coords", "schemes", "solver", "dae", "multibody", "record", "io",
+            "settings", "app"},
 }
 # Of solver, the modules above it see only the problem interface and the
 # driver's API; dae and multibody (which implement the problem) only the interface.
