@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "rigidae/app/run_integrator.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/dae/dae_system.hpp"
 #include "rigidae/so3/rotation.hpp"
@@ -54,7 +55,9 @@ nlohmann::json configuration_json(const Scene& s) {
         {"max_order", s.solver.max_order},
         {"initial_step", s.solver.initial_step},
         {"linear_solver", s.solver.linear_solver},
-        {"jacobian", s.solver.jacobian}}},
+        {"jacobian", s.solver.jacobian},
+        {"integrator", s.solver.integrator},
+        {"erk_method", s.solver.erk_method}}},
   };
 }
 
@@ -147,7 +150,7 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
   RunRecorder recorder(*dae, scene, out_dir);
   const auto t0 = std::chrono::steady_clock::now();
   try {
-    o.run = integrate(*dae, scene, recorder);
+    o.run = run_integrator(*dae, scene, recorder);
   } catch (const SolverError& e) {
     o.run.status = RunStatus::Failed;
     o.run.message = e.what();

@@ -11,15 +11,17 @@
 #include "rigidae/core/error.hpp"
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/schemes/scheme.hpp"
+#include "rigidae/solver/integrators.hpp"
 
 namespace rigidae::cli {
 
 namespace {
 
-constexpr std::array<std::string_view, 17> kValued{
+constexpr std::array<std::string_view, 19> kValued{
     "--coordinates",  "--equations",        "--scheme",      "--rtol",      "--atol",        "--t-end",
     "--euler-sequence", "--switch-threshold", "--max-steps", "--jacobian",  "--baumgarte-a", "--baumgarte-b",
-    "--projection-threshold", "--max-order", "--initial-step", "--output-step", "--linear-solver"};
+    "--projection-threshold", "--max-order", "--initial-step", "--output-step", "--linear-solver",
+    "--integrator", "--erk-method"};
 constexpr std::array<std::string_view, 2> kFlags{"--no-chart-switching", "--project-every-step"};
 
 template <typename T>
@@ -54,6 +56,13 @@ const char* kSceneOptionsHelp = R"(  --rtol X                relative tolerance,
   --linear-solver dense|klu
                           Newton's linear solver: dense LU (default) or KLU
                           sparse LU (not with --jacobian ida_dq)
+  --integrator ida|cvode-adams|cvode-bdf|arkode-erk
+                          ida (default): BDF on the DAE, every scheme; the
+                          others run the ODE form, schemes index1 (plain
+                          ODE) and projection (ODE + projection)
+  --erk-method fehlberg78|verner65|dopri5
+                          arkode-erk's table: Fehlberg 7(8) (default),
+                          Verner 6(5), Dormand-Prince 5(4)
   --euler-sequence SEQ    initial Euler-angle chart: 'auto' or three letters (e.g. zxz)
   --no-chart-switching    stop at the Euler-angle chart's singularity margin
                           instead of switching charts
@@ -171,6 +180,10 @@ void apply_scene_option(Scene& scene, const std::string& opt, const std::string&
         parse_choice<std::string>(opt, text, {{"exact", "exact"}, {"central", "central"}, {"ida_dq", "ida_dq"}});
   else if (opt == "--linear-solver")
     scene.solver.linear_solver = parse_choice<std::string>(opt, text, {{"dense", "dense"}, {"klu", "klu"}});
+  else if (opt == "--integrator")
+    scene.solver.integrator = find_integrator(text, "option --integrator").name;
+  else if (opt == "--erk-method")
+    scene.solver.erk_method = find_erk_method(text, "option --erk-method").name;
   else if (opt == "--no-chart-switching")
     form.euler.switching = false;
   else
@@ -199,6 +212,8 @@ Scene parse_command_line(const std::vector<std::string>& args, const std::string
     throw InputError(fmt::format("{0} needs a scene file: rigidae {0} SCENE.toml", command));
   Scene scene = io::load_scene(scene_path);
   for (const auto& [opt, text] : overrides) apply_scene_option(scene, opt, text);
+  // The integrator and the scheme as file and options left them.
+  if (command == "solve") check_integrator_scheme(scene.solver.integrator, scene.formulation.scheme, "options");
   // The grid as the options left it (--t-end keeps the scene's output step).
   const TimeGrid& g = scene.time;
   if (std::abs(g.end) > kMaxTimeMagnitude)

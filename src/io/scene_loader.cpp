@@ -27,6 +27,7 @@
 #include <toml++/toml.h>
 
 #include "rigidae/core/error.hpp"
+#include "rigidae/solver/integrators.hpp"
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
 #include "rigidae/so3/rotation.hpp"
@@ -60,8 +61,9 @@ constexpr std::array<std::string_view, 4> kEulerAnglesKeys{"sequence", "conventi
                                                            "switch_threshold"};
 constexpr std::array<std::string_view, 2> kBaumgarteKeys{"a", "b"};
 constexpr std::array<std::string_view, 2> kProjectionKeys{"when", "threshold"};
-constexpr std::array<std::string_view, 7> kSolverKeys{"rtol",         "atol",     "max_steps",    "max_order",
-                                                      "initial_step", "jacobian", "linear_solver"};
+constexpr std::array<std::string_view, 9> kSolverKeys{"rtol",          "atol",       "max_steps",
+                                                      "max_order",     "initial_step", "jacobian",
+                                                      "linear_solver", "integrator", "erk_method"};
 
 constexpr std::array<std::string_view, 4> kOrientationForms{"quaternion", "euler", "matrix",
                                                             "axis_angle"};
@@ -556,6 +558,26 @@ void read_solver(const TomlReader& r, const toml::table& root, Scene& scene) {
     if (sol.linear_solver == "klu" && sol.jacobian == "ida_dq")
       r.fail(*n, "'solver.linear_solver' = \"klu\" needs 'solver.jacobian' = \"exact\" or \"central\" (IDA's "
                  "difference quotients fill dense matrices only)");
+  }
+  // The integrator and, for it, the scheme (the formulation is read first).
+  if (const toml::node* n = s->get("integrator")) {
+    const std::vector<std::string> names = integrator_names();
+    const std::vector<std::string_view> views(names.begin(), names.end());
+    sol.integrator = names[r.choice(*n, "solver.integrator", views)];
+    // An ODE integrator without a scheme in the file runs the ODE form with projection.
+    const toml::table* f = root.get_as<toml::table>("formulation");
+    if (find_integrator(sol.integrator).is_ode && !(f && f->contains("scheme")))
+      scene.formulation.scheme = "projection";
+    try {
+      check_integrator_scheme(sol.integrator, scene.formulation.scheme);
+    } catch (const InputError& e) {
+      r.fail(*n, fmt::format("'solver.integrator' = \"{}\": {}", sol.integrator, e.what()));
+    }
+  }
+  if (const toml::node* n = s->get("erk_method")) {
+    const std::vector<std::string> names = erk_method_names();
+    const std::vector<std::string_view> views(names.begin(), names.end());
+    sol.erk_method = names[r.choice(*n, "solver.erk_method", views)];
   }
 }
 
