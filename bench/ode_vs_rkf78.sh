@@ -55,7 +55,8 @@ for s in "${list[@]}"; do
   done
   "${sweep[@]}" --integrator cvode-adams --only quaternion/euler/projection,quaternion/euler/index1 >>"$tmp"
   "${sweep[@]}" --integrator cvode-bdf --only quaternion/euler/projection >>"$tmp"
-  "${sweep[@]}" --integrator ida --jacobian exact --only quaternion/euler/index1,quaternion/euler/ggl >>"$tmp"
+  "${sweep[@]/$rtols/1e-4,1e-5,1e-6,1e-7,1e-8,1e-9,1e-10,1e-11}" --integrator ida --jacobian exact \
+    --only quaternion/euler/index1,quaternion/euler/ggl >>"$tmp"
 done
 mv "$tmp" "$out"
 trap - EXIT

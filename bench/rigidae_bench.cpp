@@ -54,6 +54,7 @@
 #include "rigidae/app/solve.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/dae/dae_system.hpp"
+#include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/so3/rotation.hpp"
@@ -185,8 +186,6 @@ class FinalStateSink final : public StepSink {
     t_last = t;
     y_last = y;
   }
-  void on_chart_switch(const ChartSwitch&) override {}
-  void on_projection(double, const ConstraintDrift&) override {}
 };
 
 struct RunSample {

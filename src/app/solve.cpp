@@ -10,6 +10,7 @@
 #include "rigidae/app/run_integrator.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/dae/dae_system.hpp"
+#include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/so3/rotation.hpp"
 
 namespace rigidae {

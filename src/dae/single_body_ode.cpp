@@ -56,11 +56,19 @@ void SingleBodyOde::absolute_tolerances(double /*rtol*/, double atol, const Eige
   out.setConstant(atol);
 }
 
+const Eigen::LDLT<MatVV>& SingleBodyOde::factorised_mass() {
+  if (mass_factored_.rows() != terms_.M.rows() || mass_factored_ != terms_.M) {
+    mass_factored_ = terms_.M;
+    mass_ldlt_.compute(mass_factored_);
+  }
+  return mass_ldlt_;
+}
+
 bool SingleBodyOde::accelerations(double t, const double* x) {
   q_ = Eigen::Map<const Eigen::VectorXd>(x, nq_);
   v_ = Eigen::Map<const Eigen::VectorXd>(x + nq_, nv_);
   rep_.evaluate(t, q_, v_, terms_);
-  const Eigen::LDLT<MatVV> M(terms_.M);
+  const Eigen::LDLT<MatVV>& M = factorised_mass();
   if (force_ && nc_ > 0) {
     // Schur complement of [M G^T; G 0]: S lambda = G M^-1 f - gamma.
     const VecV Minv_f = M.solve(terms_.f);

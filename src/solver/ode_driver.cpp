@@ -139,26 +139,27 @@ void check(int flag, const char* what) {
 
 class CvodeStepper final : public Stepper {
  public:
-  CvodeStepper(bool bdf, SUNContext ctx, N_Vector x0, N_Vector atol, double t0, const Scene& scene,
+  CvodeStepper(bool bdf, SUNContext ctx, N_Vector x0, N_Vector atol, const SolverSettings& opt, const TimeGrid& span,
                CallbackData& data, int n_events)
       : bdf_(bdf) {
     try {
-      create(ctx, x0, atol, t0, scene, data, n_events);
+      create(ctx, x0, atol, opt, span, data, n_events);
     } catch (...) {
       release();
       throw;
     }
   }
   ~CvodeStepper() override { release(); }
-  void create(SUNContext ctx, N_Vector x0, N_Vector atol, double t0, const Scene& scene, CallbackData& data,
-              int n_events) {
+  void create(SUNContext ctx, N_Vector x0, N_Vector atol, const SolverSettings& opt, const TimeGrid& span,
+              CallbackData& data, int n_events) {
+    const double t0 = span.start;
     const bool bdf = bdf_;
     mem_ = CVodeCreate(bdf ? CV_BDF : CV_ADAMS, ctx);
     if (!mem_) throw SolverError("CVodeCreate failed");
     check(CVodeInit(mem_, rhs_callback, t0, x0), "CVodeInit");
-    check(CVodeSVtolerances(mem_, scene.solver.rtol, atol), "CVodeSVtolerances");
+    check(CVodeSVtolerances(mem_, opt.rtol, atol), "CVodeSVtolerances");
     check(CVodeSetUserData(mem_, &data), "CVodeSetUserData");
-    check(CVodeSetStopTime(mem_, scene.time.end), "CVodeSetStopTime");
+    check(CVodeSetStopTime(mem_, span.end), "CVodeSetStopTime");
     const int n = static_cast<int>(N_VGetLength(x0));
     if (bdf) {
       // Newton with CVODE's difference-quotient Jacobian and rigidae's LU.
@@ -166,7 +167,7 @@ class CvodeStepper final : public Stepper {
       LS_ = A_ ? sun::new_dense_lu_solver(x0, A_, ctx) : nullptr;
       if (!LS_) throw SolverError("out of memory creating CVODE's linear solver");
       check(CVodeSetLinearSolver(mem_, LS_, A_), "CVodeSetLinearSolver");
-      check(CVodeSetMaxOrd(mem_, std::min(5, scene.solver.max_order)), "CVodeSetMaxOrd");
+      check(CVodeSetMaxOrd(mem_, std::min(5, opt.max_order)), "CVodeSetMaxOrd");
       if (data.projection.enabled) {
         check(CVodeSetProjFn(mem_, cvode_projection_callback), "CVodeSetProjFn");
         check(CVodeSetProjErrEst(mem_, SUNTRUE), "CVodeSetProjErrEst");
@@ -233,23 +234,24 @@ class CvodeStepper final : public Stepper {
 
 class ArkodeStepper final : public Stepper {
  public:
-  ArkodeStepper(const ErkMethodInfo& method, SUNContext ctx, N_Vector x0, N_Vector atol, double t0,
-                const Scene& scene, CallbackData& data, int n_events)
+  ArkodeStepper(const ErkMethodInfo& method, SUNContext ctx, N_Vector x0, N_Vector atol, const SolverSettings& opt,
+                const TimeGrid& span, CallbackData& data, int n_events)
       : order_(method.order) {
-    mem_ = ERKStepCreate(rhs_callback, t0, x0, ctx);
+    mem_ = ERKStepCreate(rhs_callback, span.start, x0, ctx);
     if (!mem_) throw SolverError("ERKStepCreate failed");
     try {
-      configure(method, atol, scene, data, n_events);
+      configure(method, atol, opt, span, data, n_events);
     } catch (...) {
       ERKStepFree(&mem_);
       throw;
     }
   }
-  void configure(const ErkMethodInfo& method, N_Vector atol, const Scene& scene, CallbackData& data, int n_events) {
-    check(ERKStepSVtolerances(mem_, scene.solver.rtol, atol), "ERKStepSVtolerances");
+  void configure(const ErkMethodInfo& method, N_Vector atol, const SolverSettings& opt, const TimeGrid& span,
+                 CallbackData& data, int n_events) {
+    check(ERKStepSVtolerances(mem_, opt.rtol, atol), "ERKStepSVtolerances");
     check(ERKStepSetTableName(mem_, method.arkode_name.c_str()), "ERKStepSetTableName");
     check(ERKStepSetUserData(mem_, &data), "ERKStepSetUserData");
-    check(ERKStepSetStopTime(mem_, scene.time.end), "ERKStepSetStopTime");
+    check(ERKStepSetStopTime(mem_, span.end), "ERKStepSetStopTime");
     if (data.projection.enabled)
       check(ERKStepSetPostprocessStepFn(mem_, arkode_postprocess_callback), "ERKStepSetPostprocessStepFn");
     has_roots_ = n_events > 0;
@@ -308,25 +310,31 @@ struct Vectors {
 void forward_events(OdeProblem& problem, RunResult& result, StepSink& sink, IdaCounters& counters) {
   for (const EventNote& e : problem.take_events()) {
     if (e.what == "chart_switch") {
-      const ChartSwitch s{e.t, e.from, e.to, e.margin};
       ++result.switch_count;
-      if (result.switches.size() < kSwitchesKept) result.switches.push_back(s);
-      sink.on_chart_switch(s);
+      if (result.switches.size() < kSwitchesKept) result.switches.push_back({e.t, e.from, e.to, e.margin});
     } else if (e.what == "projection") {
       ++counters.projections;
-      sink.on_projection(e.t, {e.drift_position, e.drift_velocity});
     }
+    sink.on_event(e);
   }
+}
+
+EventNote projection_note(double t, const OdeDrift& before) {
+  EventNote e;
+  e.t = t;
+  e.what = "projection";
+  e.drift_position = before.position;
+  e.drift_velocity = before.velocity;
+  return e;
 }
 
 }  // namespace
 
-RunResult integrate_ode(OdeProblem& problem, const Scene& scene, const OdeMethod& method, StepSink& sink) {
+RunResult integrate_ode(OdeProblem& problem, const SolverSettings& opt, const TimeGrid& span, const OdeMethod& method,
+                        StepSink& sink) {
   const IntegratorInfo& info = find_integrator(method.integrator);
   if (!info.is_ode) throw InputError(fmt::format("integrate_ode: '{}' is not an ODE integrator", method.integrator));
   const int n = problem.size();
-  const TimeGrid& span = scene.time;
-  const SolverSettings& opt = scene.solver;
 
   RunResult result;
   CallbackData data;
@@ -354,10 +362,10 @@ RunResult integrate_ode(OdeProblem& problem, const Scene& scene, const OdeMethod
   const bool adams = method.integrator == "cvode-adams";
   std::unique_ptr<Stepper> stepper;
   if (method.integrator == "arkode-erk")
-    stepper = std::make_unique<ArkodeStepper>(find_erk_method(method.erk_method), vec.ctx, vec.x, vec.atol,
-                                              span.start, scene, data, problem.event_count());
+    stepper = std::make_unique<ArkodeStepper>(find_erk_method(method.erk_method), vec.ctx, vec.x, vec.atol, opt, span,
+                                              data, problem.event_count());
   else
-    stepper = std::make_unique<CvodeStepper>(!adams, vec.ctx, vec.x, vec.atol, span.start, scene, data,
+    stepper = std::make_unique<CvodeStepper>(!adams, vec.ctx, vec.x, vec.atol, opt, span, data,
                                              problem.event_count());
 
   IdaCounters before_restart;
@@ -434,7 +442,7 @@ RunResult integrate_ode(OdeProblem& problem, const Scene& scene, const OdeMethod
     ++steps_total;
     if (data.projected) {  // inside the step (CVODE-BDF, ARKODE)
       ++before_restart.projections;
-      sink.on_projection(t, {data.drift_before.position, data.drift_before.velocity});
+      sink.on_event(projection_note(t, data.drift_before));
     }
     problem.observe(t, x.data(), y_obs);
     sink.on_step(t, stepper->last_step(), stepper->last_order(), y_obs);
@@ -445,7 +453,7 @@ RunResult integrate_ode(OdeProblem& problem, const Scene& scene, const OdeMethod
         problem.project(t, x.data());
         restart(t);
         ++before_restart.projections;
-        sink.on_projection(t, {d.position, d.velocity});
+        sink.on_event(projection_note(t, d));
       }
     }
   }

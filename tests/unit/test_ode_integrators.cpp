@@ -41,8 +41,8 @@ class Sink final : public StepSink {
     t_last = t;
     y_last = y;
   }
-  void on_chart_switch(const ChartSwitch&) override {}
-  void on_projection(double, const ConstraintDrift&) override {
+  void on_event(const EventNote& e) override {
+    if (e.what != "projection") return;
     pending_projection = true;
     ++projections;
   }
@@ -70,7 +70,7 @@ Outcome run(const Scene& s, const std::string& integrator, const std::string& er
   auto dae = assemble_dae(s);
   SingleBodyOde ode(*dae, s);
   Outcome o;
-  o.run = integrate_ode(ode, s, {integrator, erk, dae->scheme().projection()}, o.sink);
+  o.run = integrate_ode(ode, s.solver, s.time, {integrator, erk, dae->scheme().projection()}, o.sink);
   if (o.run.status == RunStatus::Success) {
     std::string why;
     const auto exact = exact::make_exact_solution(s, &why);

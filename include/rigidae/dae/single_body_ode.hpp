@@ -20,6 +20,8 @@
 // of margin - threshold the state is re-expressed in the most regular chart.
 #include <vector>
 
+#include <Eigen/Cholesky>
+
 #include "rigidae/dae/dae_system.hpp"
 #include "rigidae/solver/ode_problem.hpp"
 
@@ -59,6 +61,11 @@ class SingleBodyOde final : public OdeProblem {
   const Scene& scene_;
   int nq_ = 0, nv_ = 0, nc_ = 0;
   bool force_ = false;
+  // The factorised mass matrix of the last evaluation, reused while M is
+  // unchanged (constant J in the Euler form: one factorisation per run).
+  const Eigen::LDLT<MatVV>& factorised_mass();
+  Eigen::LDLT<MatVV> mass_ldlt_;
+  MatVV mass_factored_;
   StandardTerms terms_;  // scratch of the hot path
   VecQ q_;
   VecV v_, acc_;

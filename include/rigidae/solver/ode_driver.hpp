@@ -15,6 +15,7 @@
 // the threshold, never every step.
 #include <string>
 
+#include "rigidae/schemes/scheme.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 #include "rigidae/solver/ode_problem.hpp"
 
@@ -26,6 +27,7 @@ struct OdeMethod {
   ProjectionPolicy projection;
 };
 
-RunResult integrate_ode(OdeProblem& problem, const Scene& scene, const OdeMethod& method, StepSink& sink);
+RunResult integrate_ode(OdeProblem& problem, const SolverSettings& settings, const TimeGrid& time, const OdeMethod& method,
+                        StepSink& sink);
 
 }  // namespace rigidae
