@@ -1,22 +1,30 @@
 // Dispatch on solver.integrator (see run_integrator.hpp).
 #include "rigidae/app/run_integrator.hpp"
 
-#include "rigidae/dae/single_body_ode.hpp"
-#include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/solver/integrators.hpp"
 #include "rigidae/solver/ode_driver.hpp"
 
 namespace rigidae {
 
-RunResult run_integrator(DaeSystem& dae, const Scene& scene, StepSink& sink) {
-  const IntegratorInfo& info = find_integrator(scene.solver.integrator, scene.source);
-  if (!info.is_ode) {
-    SingleBodyProblem problem(dae, scene.formulation.euler, scene.R0_WB, scene.omega0_B, scene.source);
-    return integrate(problem, scene.solver, scene.time, sink);
+IntegratorRun::IntegratorRun(const DaeSystem& dae, const Scene& scene) : dae_(dae), scene_(scene) {
+  if (!find_integrator(scene.solver.integrator, scene.source).is_ode) {
+    dae_problem_.emplace(dae, scene.formulation.euler, scene.R0_WB, scene.omega0_B, scene.source);
+    return;
   }
   check_integrator_scheme(scene.solver.integrator, scene.formulation.scheme, scene.source);
-  SingleBodyOde ode(dae, scene);
-  return integrate_ode(ode, scene.solver, scene.time, {scene.solver.integrator, scene.solver.erk_method, dae.scheme().projection()},
+  ode_.emplace(dae, scene);
+}
+
+const ChartState& IntegratorRun::chart_state() const {
+  if (dae_problem_) return *dae_problem_;
+  return *ode_;
+}
+
+RunResult IntegratorRun::run(StepSink& sink) {
+  if (dae_problem_) return integrate(*dae_problem_, scene_.solver, scene_.time, sink);
+  const ProjectionPolicy p = dae_.scheme().projection();
+  return integrate_ode(*ode_, scene_.solver, scene_.time,
+                       {scene_.solver.integrator, scene_.solver.erk_method, {p.enabled, p.every_step, p.threshold}},
                        sink);
 }
 

@@ -7,7 +7,6 @@
 #include <algorithm>
 
 #include "rigidae/core/error.hpp"
-#include "rigidae/schemes/scheme.hpp"
 
 namespace rigidae {
 
@@ -64,8 +63,9 @@ const ErkMethodInfo& find_erk_method(const std::string& name, const std::string&
 
 void check_integrator_scheme(const std::string& integrator, const std::string& scheme, const std::string& where) {
   const IntegratorInfo& i = find_integrator(integrator, where);
-  const std::vector<std::string> valid = i.schemes.empty() ? scheme_names() : i.schemes;
-  if (std::find(valid.begin(), valid.end(), scheme) == valid.end())
+  // An empty list is every scheme (whose names the scheme setting checks).
+  const std::vector<std::string>& valid = i.schemes;
+  if (!valid.empty() && std::find(valid.begin(), valid.end(), scheme) == valid.end())
     throw InputError(fmt::format("{}integrator '{}' does not run scheme '{}'; valid schemes with {}: {}", prefix(where),
                                  integrator, scheme, integrator, fmt::join(valid, ", ")));
 }

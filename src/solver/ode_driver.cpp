@@ -30,7 +30,7 @@ namespace {
 
 struct CallbackData {
   OdeProblem* problem = nullptr;
-  ProjectionPolicy projection;
+  OdeProjection projection;
   std::exception_ptr error;  // never thrown through C; rethrown by the driver
   Eigen::VectorXd scratch;
   // Set by a projection inside the integrator (CVODE-BDF, ARKODE) during

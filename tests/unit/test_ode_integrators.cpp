@@ -70,12 +70,14 @@ Outcome run(const Scene& s, const std::string& integrator, const std::string& er
   auto dae = assemble_dae(s);
   SingleBodyOde ode(*dae, s);
   Outcome o;
-  o.run = integrate_ode(ode, s.solver, s.time, {integrator, erk, dae->scheme().projection()}, o.sink);
+  const ProjectionPolicy p = dae->scheme().projection();
+  o.run = integrate_ode(ode, s.solver, s.time, {integrator, erk, {p.enabled, p.every_step, p.threshold}}, o.sink);
   if (o.run.status == RunStatus::Success) {
     std::string why;
     const auto exact = exact::make_exact_solution(s, &why);
     REQUIRE(exact);
-    const Vec4 q = dae->representation().orientation(dae->coordinates(o.sink.y_last.data()));
+    // In the chart the run ended in (Euler angles may have switched).
+    const Vec4 q = ode.representation().orientation(dae->coordinates(o.sink.y_last.data()));
     o.error = so3::quaternion_distance(q, so3::matrix_to_quaternion(exact->at(o.sink.t_last).R_WB));
   }
   return o;
@@ -163,7 +165,7 @@ TEST_CASE("ODE integrators: projection keeps |q|^2 - 1 and R^T R - I at round-of
             worst = std::max(worst, (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff());
           }
           if (e == Equations::Lagrange) {  // and G v = 0 (velocity level)
-            const ConstraintDrift d = dae->drift(0.0, y.data());
+            const ConstraintDrift d = dae->drift(dae->start_chart(), 0.0, y.data());
             worst = std::max(worst, d.velocity / std::max(1.0, y.segment(nq, dae->layout().nv).norm()));
           }
           ++checked;

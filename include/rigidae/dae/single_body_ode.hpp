@@ -22,16 +22,21 @@
 
 #include <Eigen/Cholesky>
 
+#include "rigidae/dae/chart_state.hpp"
 #include "rigidae/dae/dae_system.hpp"
 #include "rigidae/solver/ode_problem.hpp"
 
 namespace rigidae {
 
-class SingleBodyOde final : public OdeProblem {
+class SingleBodyOde final : public OdeProblem, public ChartState {
  public:
   // dae: the scene's body with an acceleration-level scheme (index1 or
   // projection); it must outlive this object.
-  SingleBodyOde(DaeSystem& dae, const Scene& scene);
+  SingleBodyOde(const DaeSystem& dae, const Scene& scene);
+
+  // The chart the state is written in now (Euler angles), as in SingleBodyProblem.
+  int chart() const override { return chart_; }
+  const DaeSystem& system() const override { return dae_; }
 
   int size() const override { return nq_ + nv_; }
   void initial_state(double t0, Eigen::VectorXd& x) override;
@@ -56,8 +61,12 @@ class SingleBodyOde final : public OdeProblem {
   // v' and (Force kind) lambda at (t, q, v) into acc_ and lambda_.
   bool accelerations(double t, const double* x);
 
-  DaeSystem& dae_;
-  Representation& rep_;
+  const Representation& rep() const { return representation(); }
+  // Re-expresses x at t in the most regular chart; notes the switch. False if the chart stayed.
+  bool change_chart(double t, Eigen::VectorXd& x);
+
+  const DaeSystem& dae_;
+  int chart_;  // the run's state besides x: the current chart
   const Scene& scene_;
   int nq_ = 0, nv_ = 0, nc_ = 0;
   bool force_ = false;

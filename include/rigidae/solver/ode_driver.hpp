@@ -15,16 +15,23 @@
 // the threshold, never every step.
 #include <string>
 
-#include "rigidae/schemes/scheme.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 #include "rigidae/solver/ode_problem.hpp"
 
 namespace rigidae {
 
+// When to project (the projection scheme's ProjectionPolicy, copied by the
+// caller: solver/ sees no scheme).
+struct OdeProjection {
+  bool enabled = false;
+  bool every_step = false;  // after every accepted step, or only when the drift passes threshold
+  double threshold = 0.0;   // on the position and velocity drifts
+};
+
 struct OdeMethod {
   std::string integrator;  // "cvode-adams", "cvode-bdf" or "arkode-erk" (integrators.hpp)
   std::string erk_method;  // for arkode-erk (integrators.hpp)
-  ProjectionPolicy projection;
+  OdeProjection projection;
 };
 
 RunResult integrate_ode(OdeProblem& problem, const SolverSettings& settings, const TimeGrid& time, const OdeMethod& method,
