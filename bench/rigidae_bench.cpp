@@ -14,10 +14,15 @@
 //       calls at the initial state, median of 7 batches)
 //   rigidae_bench sweep SCENE [--jacobian K] [--rtols a,b,..] [--repeats N] [--budget S]
 //                             [--only LIST] [--skip LIST] [--reference FILE] [--mode M]
+//                             [--integrator I] [--erk-method M]
 //       per combination and rtol (atol = rtol): counters, wall time and the
 //       final orientation error, one JSON line each in the format of
 //       bench/peers/results.jsonl (peer "rigidae", setting_kind "rtol")
 //
+// I is solver.integrator (ida, cvode-adams, cvode-bdf, arkode-erk; default:
+// the scene's) and M solver.erk_method (fehlberg78, verner65, dopri5): the
+// ODE integrators run the combinations whose scheme they accept (index1,
+// projection); rows name the method "COMBINATION@INTEGRATOR[:ERK]".
 // K is the scene's solver.jacobian (central | ida_dq today; whatever the
 // library accepts). LIST: comma-separated patterns as in `rigidae compare`
 // ('quaternion/euler/*', 'ggl'). --reference: a JSON file with "t" and
@@ -28,6 +33,7 @@
 // nothing. Wall times cover the integration (and recording), not the setup.
 // Each setting is run up to N times (default 3), fewer once its runs took S
 // seconds (default 3), at least once.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -44,6 +50,7 @@
 
 #include "machine_info.hpp"
 #include "rigidae/app/compare.hpp"
+#include "rigidae/app/run_integrator.hpp"
 #include "rigidae/app/solve.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/dae/dae_system.hpp"
@@ -52,6 +59,7 @@
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/so3/rotation.hpp"
 #include "rigidae/solver/ida_driver.hpp"
+#include "rigidae/solver/integrators.hpp"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -64,6 +72,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 struct Options {
   std::string command, scene_path;
   std::optional<std::string> jacobian;
+  std::optional<std::string> integrator, erk_method;
   std::vector<double> rtols;
   int repeats = 3;
   double budget_s = 3.0;
@@ -91,6 +100,8 @@ Options parse(int argc, char** argv) {
       return argv[++i];
     };
     if (a == "--jacobian") o.jacobian = next();
+    else if (a == "--integrator") o.integrator = next();
+    else if (a == "--erk-method") o.erk_method = next();
     else if (a == "--rtol" || a == "--rtols") {
       o.rtols.clear();
       for (const auto& s : peers::split(next())) o.rtols.push_back(std::stod(s));
@@ -114,9 +125,24 @@ void print(const json& j) {
   std::cout << j.dump() << std::endl;
 }
 
-std::vector<Combination> selected(const Options& o) {
+// The scene with the integrator options applied.
+Scene load_with_integrator(const Options& o) {
+  Scene s = io::load_scene(o.scene_path);
+  if (o.integrator) s.solver.integrator = *o.integrator;
+  if (o.erk_method) s.solver.erk_method = *o.erk_method;
+  find_integrator(s.solver.integrator, "--integrator");
+  find_erk_method(s.solver.erk_method, "--erk-method");
+  return s;
+}
+
+// The combinations --only/--skip select that the integrator runs.
+std::vector<Combination> selected(const Options& o, const std::string& integrator = "ida") {
   std::vector<Combination> out;
+  const IntegratorInfo& info = find_integrator(integrator);
   for (const Combination& c : all_combinations()) {
+    if (!info.schemes.empty() && c.scheme != "any" &&
+        std::find(info.schemes.begin(), info.schemes.end(), c.scheme) == info.schemes.end())
+      continue;
     bool keep = o.only.empty();
     for (const auto& p : o.only) keep = keep || matches(c, p);
     for (const auto& p : o.skip) keep = keep && !matches(c, p);
@@ -172,10 +198,10 @@ RunSample run_unrecorded(const Scene& s) {
   auto dae = assemble_dae(s);
   FinalStateSink sink;
   RunSample r;
-  SingleBodyProblem problem(*dae, s.formulation.euler, s.R0_WB, s.omega0_B, s.source);
+  IntegratorRun run(*dae, s);
   const auto t0 = std::chrono::steady_clock::now();
   try {
-    r.run = integrate(problem, s.solver, s.time, sink);
+    r.run = run.run(sink);
   } catch (const SolverError& e) {
     r.run.status = RunStatus::Failed;
     r.run.message = e.what();
@@ -232,14 +258,26 @@ Scene with_settings(const Scene& base, const Combination& c, double rtol, const 
   s.solver.rtol = rtol;
   s.solver.atol = rtol;
   if (jac) s.solver.jacobian = *jac;
+  // Euler angles ("any" scheme) carry no constraint: the plain ODE.
+  if (c.scheme == "any" && find_integrator(s.solver.integrator).is_ode) s.formulation.scheme = "index1";
   return s;
+}
+
+// The method's name in the results: the combination, and the integrator
+// when it is not IDA.
+std::string method_name(const Scene& s, const Combination& c) {
+  if (s.solver.integrator == "ida") return c.name();
+  std::string m = c.name() + "@" + s.solver.integrator;
+  if (s.solver.integrator == "arkode-erk") m += ":" + s.solver.erk_method;
+  return m;
 }
 
 // The work a setting takes and the error it leaves, one JSON line.
 json measure(const Scene& s, const Combination& c, const Options& o, const std::optional<Vec4>& q_ref) {
   json row = {{"peer", "rigidae"},
               {"scene", s.name},
-              {"method", c.name()},
+              {"method", method_name(s, c)},
+              {"integrator", s.solver.integrator},
               {"jacobian", s.solver.jacobian},
               {"setting", s.solver.rtol},
               {"setting_kind", "rtol"},
@@ -302,11 +340,11 @@ int cmd_reference(const Options& o) {
 }
 
 int cmd_cost(Options o) {
-  const Scene scene = io::load_scene(o.scene_path);
+  const Scene scene = load_with_integrator(o);
   const double rtol = o.rtols.empty() ? scene.solver.rtol : o.rtols.front();
   o.mode = "both";
   print(bench::machine_info("rigidae_bench cost"));
-  for (const Combination& c : selected(o)) {
+  for (const Combination& c : selected(o, scene.solver.integrator)) {
     const Scene s = with_settings(scene, c, rtol, o.jacobian);
     json row = measure(s, c, o, std::nullopt);
     row["kind"] = "cost";
@@ -340,7 +378,7 @@ int cmd_cost(Options o) {
 }
 
 int cmd_sweep(Options o) {
-  const Scene scene = io::load_scene(o.scene_path);
+  const Scene scene = load_with_integrator(o);
   if (o.rtols.empty())
     for (int e = 3; e <= 13; ++e) o.rtols.push_back(std::pow(10.0, -e));
   std::optional<Vec4> q_ref;
@@ -356,7 +394,7 @@ int cmd_sweep(Options o) {
   info["scene"] = scene.name;
   info["reference"] = ref_how;
   print(info);
-  for (const Combination& c : selected(o))
+  for (const Combination& c : selected(o, scene.solver.integrator))
     for (double rtol : o.rtols) {
       json row = measure(with_settings(scene, c, rtol, o.jacobian), c, o, q_ref);
       row["kind"] = "sweep";

@@ -27,7 +27,7 @@ ALLOWED = {
     "dae": {"core", "so3", "model", "coords", "schemes", "solver"},
     "multibody": {"core", "so3", "model", "coords", "schemes", "solver"},
     "record": {"core", "so3", "model", "coords", "schemes", "dae", "solver", "io"},
-    "settings": {"core", "so3", "model", "schemes"},
+    "settings": {"core", "so3", "model", "schemes", "solver"},
     "io": {"core", "so3", "model", "exact", "schemes", "settings"},
     "app": {"core", "so3", "model", "exact", "coords", "schemes", "solver", "dae", "multibody", "record", "io",
             "settings"},
@@ -37,7 +37,8 @@ ALLOWED = {
 # Of solver, the modules above it see only the problem interface and the
 # driver's API; dae and multibody (which implement the problem) only the interface.
 SOLVER_HEADERS_FOR = {
-    "dae": {"problem.hpp"},
+    "dae": {"problem.hpp", "ode_problem.hpp"},
+    "settings": {"integrators.hpp"},
     "multibody": {"problem.hpp"},
 }
 SUNDIALS = re.compile(r'#\s*include\s*<(ida|cvode|arkode|sundials|nvector|sunmatrix|sunlinsol|sunnonlinsol)/')

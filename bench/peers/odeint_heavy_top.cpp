@@ -1,5 +1,6 @@
 // Peer: Boost.Odeint, controlled Runge-Kutta-Fehlberg 7(8) on the 7-state
-// quaternion ODE of the heavy top or the free body (--scene; body form):
+// quaternion ODE of the heavy top, the free body or the Lagrange top
+// (--scene; body form):
 //   q' = 1/2 q (x) (0, w),   J w' = -w x (J w) + c x (m R^T g),
 // J the inertia about the pivot, c the COM in body axes, g in space axes.
 // One JSON line per tolerance (abs = rel); wall time covers one whole
@@ -41,7 +42,7 @@ struct HeavyTop {
 
 int main(int argc, char** argv) try {
   const char* usage =
-      "odeint_heavy_top [--scene heavy_top|free_body] [--repeats N] [--budget S] [--settings tol,tol,...] [--reference FILE]\n"
+      "odeint_heavy_top [--scene heavy_top|free_body|lagrange_top] [--repeats N] [--budget S] [--settings tol,tol,...] [--reference FILE]\n"
       "  Boost.Odeint controlled runge_kutta_fehlberg78, abs = rel = tol (default 1e-3..1e-13)";
   auto opt = peers::parse_options(argc, argv, usage);
   if (opt.settings.empty())
@@ -53,7 +54,8 @@ int main(int argc, char** argv) try {
     long long evals = 0;
     std::size_t steps = 0;
     auto run = [&] {
-      x = {1.0, 0.0, 0.0, 0.0, peers::scene.w0[0], peers::scene.w0[1], peers::scene.w0[2]};
+      const double* q0 = peers::scene.q0;
+      x = {q0[0], q0[1], q0[2], q0[3], peers::scene.w0[0], peers::scene.w0[1], peers::scene.w0[2]};
       evals = 0;
       auto stepper = odeint::make_controlled(tol, tol, odeint::runge_kutta_fehlberg78<State>());
       steps = odeint::integrate_adaptive(stepper, HeavyTop{&evals}, x, 0.0, peers::scene.t_end, 1e-4);

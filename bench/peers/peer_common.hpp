@@ -31,6 +31,9 @@ struct Scene {
   double w0[3];       // body components; the initial orientation is the identity
   double t_end;
   double Jpivot[3];   // inertia about the pivot (parallel axis theorem)
+  // Initial orientation (w, x, y, z). Only odeint_heavy_top reads it: the
+  // other peers start from the identity (run them on heavy_top, free_body).
+  double q0[4] = {1.0, 0.0, 0.0, 0.0};
 };
 
 inline Scene make_scene(const std::string& name) {
@@ -39,8 +42,13 @@ inline Scene make_scene(const std::string& name) {
     s = {name, 15.0, {0.234375, 0.46875, 0.234375}, {0.0, 1.0, 0.0}, {0.0, 0.0, -9.81}, {0.0, 150.0, -4.61538}, 2.0, {}};
   else if (name == "free_body")
     s = {name, 1.0, {2.0, 3.0, 4.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.1, 2.0, 0.1}, 20.0, {}};
-  else
-    throw std::runtime_error("unknown scene '" + name + "' (heavy_top, free_body)");
+  else if (name == "lagrange_top") {
+    // problems/lagrange_top.toml: tilted 0.3 rad about space x.
+    s = {name, 0.5, {2.0e-4, 2.0e-4, 3.0e-4}, {0.0, 0.0, 0.05}, {0.0, 0.0, -9.81}, {0.0, 0.0, 60.0}, 5.0, {}};
+    s.q0[0] = std::cos(0.15);
+    s.q0[1] = std::sin(0.15);
+  } else
+    throw std::runtime_error("unknown scene '" + name + "' (heavy_top, free_body, lagrange_top)");
   const double c2 = s.com[0] * s.com[0] + s.com[1] * s.com[1] + s.com[2] * s.com[2];
   int off_axis = 0;
   for (int k = 0; k < 3; ++k) {

@@ -21,7 +21,7 @@ std::vector<std::string> split(const std::string& header) {
 
 }  // namespace
 
-MemoryRecorder::MemoryRecorder(const SingleBodyProblem& problem, const Scene& scene, bool keep_steps, bool keep_grid)
+MemoryRecorder::MemoryRecorder(const ChartState& problem, const Scene& scene, bool keep_steps, bool keep_grid)
     : problem_(problem),
       keep_steps_(keep_steps),
       keep_grid_(keep_grid),

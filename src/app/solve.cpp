@@ -10,6 +10,7 @@
 #include <optional>
 #include <nlohmann/json.hpp>
 
+#include "rigidae/app/run_integrator.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/dae/dae_system.hpp"
 #include "rigidae/dae/single_body_problem.hpp"
@@ -198,7 +199,7 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
   if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", out_dir.string(), ec.message()));
 
   std::unique_ptr<RunRecorder> recorder;
-  SolveOutcome o = solve_with(scene, [&](const SingleBodyProblem& problem) {
+  SolveOutcome o = solve_with(scene, [&](const ChartState& problem) {
     recorder = std::make_unique<RunRecorder>(problem, scene, out_dir);
     return RunSink{recorder.get(), [&] { recorder->close(); }};
   });
@@ -208,7 +209,7 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
   return o;
 }
 
-SolveOutcome solve_with(const Scene& scene, const std::function<RunSink(const SingleBodyProblem&)>& attach) {
+SolveOutcome solve_with(const Scene& scene, const std::function<RunSink(const ChartState&)>& attach) {
   std::unique_ptr<DaeSystem> dae = assemble_dae(scene);
   SolveOutcome o;
   o.representation = dae->representation().name();
@@ -217,14 +218,14 @@ SolveOutcome solve_with(const Scene& scene, const std::function<RunSink(const Si
   o.multiplier_names = dae->multiplier_names();
   o.scheme_parameters = dae->scheme().parameters();
 
-  SingleBodyProblem problem(*dae, scene.formulation.euler, scene.R0_WB, scene.omega0_B, scene.source);
-  const RunSink recording = attach(problem);
+  IntegratorRun run(*dae, scene);
+  const RunSink recording = attach(run.chart_state());
   RecordingSink& recorder = *recording.sink;
   InvariantMonitor monitor(*dae, scene, recorder);
   const auto t0 = std::chrono::steady_clock::now();
   std::string lost;  // the first output file that could not be written completely
   try {
-    o.run = integrate(problem, scene.solver, scene.time, monitor);
+    o.run = run.run(monitor);
   } catch (const SolverError& e) {
     o.run.status = RunStatus::Failed;
     o.run.message = e.what();

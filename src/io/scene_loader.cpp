@@ -514,6 +514,10 @@ void read_solver(const TomlReader& r, const toml::table& root, Scene& scene) {
   if (!s) return;
   r.check_keys(*s, "solver", schema().settings.solver, schema().sections);
   read_settings(r, *s, "solver", scene);
+  // An ODE integrator without a scheme in the file runs the ODE form with projection.
+  const toml::table* f = root.get_as<toml::table>("formulation");
+  const std::string scheme = settings::default_scheme(scene.solver.integrator);
+  if (s->contains("integrator") && !scheme.empty() && !(f && f->contains("scheme"))) scene.formulation.scheme = scheme;
 }
 
 // Checks between settings, reported at the key they name (or its table when

@@ -22,7 +22,7 @@ CsvStream::CsvStream(const std::filesystem::path& path, const std::string& units
   stream_.write(fmt::format("{}\n{}\n", units_comment, header));
 }
 
-RunRecorder::RunRecorder(const SingleBodyProblem& problem, const Scene& scene, const std::filesystem::path& out_dir)
+RunRecorder::RunRecorder(const ChartState& problem, const Scene& scene, const std::filesystem::path& out_dir)
     : problem_(problem),
       multiplier_names_(problem.system().multiplier_names()),
       with_chart_(problem.representation().has_charts()),

@@ -3,6 +3,7 @@
 #include "rigidae/settings/settings.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cctype>
@@ -12,6 +13,7 @@
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/core/text.hpp"
+#include "rigidae/solver/integrators.hpp"
 
 namespace rigidae::settings {
 
@@ -199,7 +201,20 @@ std::optional<CrossProblem> cross_problem(const Scene& scene) {
     return CrossProblem{"solver.linear_solver",
                         "\"klu\" needs 'solver.jacobian' = \"exact\" or \"central\" (IDA's difference quotients fill "
                         "dense matrices only)"};
+  // The integrator and the scheme: the integrator's row of solver/integrators.hpp.
+  for (const IntegratorInfo& i : integrators())
+    if (i.name == scene.solver.integrator && !i.schemes.empty() &&
+        std::find(i.schemes.begin(), i.schemes.end(), scene.formulation.scheme) == i.schemes.end())
+      return CrossProblem{"solver.integrator",
+                          fmt::format("\"{}\" does not run scheme '{}'; valid schemes with {}: {}", i.name,
+                                      scene.formulation.scheme, i.name, fmt::join(i.schemes, ", "))};
   return std::nullopt;
+}
+
+std::string default_scheme(const std::string& integrator) {
+  for (const IntegratorInfo& i : integrators())
+    if (i.name == integrator && i.is_ode) return "projection";
+  return "";
 }
 
 std::string to_text(const Value& v) {

@@ -8,6 +8,7 @@
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/settings/settings.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
+#include "rigidae/solver/integrators.hpp"
 
 // Rows name only the fields they set; the others keep their defaults by design.
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
@@ -166,6 +167,19 @@ std::vector<Setting> make_table() {
        .help = "Newton's linear solver: dense LU or KLU sparse LU (not with --jacobian ida_dq)",
        .set = [](Scene& s, const Value& v) { s.solver.linear_solver = word(v); },
        .get = [](const Scene& s) -> Value { return s.solver.linear_solver; }});
+  // Which integrator runs which schemes: solver/integrators.hpp (checked in cross_problem).
+  row({.scene_key = "solver.integrator", .option = "--integrator", .commands = kRun, .kind = Kind::Choice,
+       .choices = integrator_names,
+       .help = "ida: BDF on the DAE, every scheme; cvode-adams, cvode-bdf, arkode-erk: the ODE form, schemes "
+               "index1 (plain ODE) and projection (ODE + projection; a scene file naming one of them and no "
+               "scheme gets projection)",
+       .set = [](Scene& s, const Value& v) { s.solver.integrator = word(v); },
+       .get = [](const Scene& s) -> Value { return s.solver.integrator; }});
+  row({.scene_key = "solver.erk_method", .option = "--erk-method", .commands = kRun, .kind = Kind::Choice,
+       .choices = erk_method_names,
+       .help = "arkode-erk's Butcher table: Fehlberg 7(8), Verner 6(5) or Dormand-Prince 5(4)",
+       .set = [](Scene& s, const Value& v) { s.solver.erk_method = word(v); },
+       .get = [](const Scene& s) -> Value { return s.solver.erk_method; }});
 
   // --- time grid ----------------------------------------------------------
   row({.scene_key = "time.start", .kind = Kind::Real, .unit = "s", .min = Bound{-kMaxTimeMagnitude, true},

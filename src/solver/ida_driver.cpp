@@ -17,8 +17,10 @@
 #include <optional>
 #include <utility>
 
+#include "dense_lu_solver.hpp"
 #include "central_differences.hpp"
 #include "rigidae/core/error.hpp"
+#include "serial_vector.hpp"
 #include "rigidae/solver/version.hpp"
 
 namespace rigidae {
@@ -73,13 +75,15 @@ struct IdaSession {
   // nnz > 0: a sparse (CSC) matrix with that many entries and KLU.
   IdaSession(int n, long nnz) {
     if (SUNContext_Create(nullptr, &ctx) != 0) throw SolverError("SUNContext_Create failed");
-    y = N_VNew_Serial(n, ctx);
-    yp = N_VNew_Serial(n, ctx);
-    id = N_VNew_Serial(n, ctx);
-    atol = N_VNew_Serial(n, ctx);
-    dky = N_VNew_Serial(n, ctx);
+    // rigidae's serial vectors and dense LU (compiled with our flags; same
+    // arithmetic as SUNDIALS' serial vector and dense solver); KLU for sparse.
+    y = sun::new_serial_vector(n, ctx);
+    yp = sun::new_serial_vector(n, ctx);
+    id = sun::new_serial_vector(n, ctx);
+    atol = sun::new_serial_vector(n, ctx);
+    dky = sun::new_serial_vector(n, ctx);
     A = nnz > 0 ? SUNSparseMatrix(n, n, nnz, CSC_MAT, ctx) : SUNDenseMatrix(n, n, ctx);
-    LS = !A ? nullptr : nnz > 0 ? SUNLinSol_KLU(y, A, ctx) : SUNLinSol_Dense(y, A, ctx);
+    LS = !A ? nullptr : nnz > 0 ? SUNLinSol_KLU(y, A, ctx) : sun::new_dense_lu_solver(y, A, ctx);
     mem = IDACreate(ctx);
     if (!y || !yp || !id || !atol || !dky || !A || !LS || !mem) throw SolverError("out of memory creating IDA");
   }

@@ -31,6 +31,10 @@ struct SolverSettings {
   // the <= 30 unknowns here) or "klu" (sparse LU on the iteration
   // matrix's structural pattern; not with "ida_dq").
   std::string linear_solver = "dense";
+  // Integrator and explicit Runge-Kutta table (solver/integrators.hpp
+  // lists the valid values and which schemes each integrator runs).
+  std::string integrator = "ida";
+  std::string erk_method = "fehlberg78";
 };
 
 // Limits of the time grid: |start|, |end| (about 32 years; beyond, t + h

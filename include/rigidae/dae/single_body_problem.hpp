@@ -10,21 +10,22 @@
 #include <string>
 #include <vector>
 
+#include "rigidae/dae/chart_state.hpp"
 #include "rigidae/dae/dae_system.hpp"
 #include "rigidae/solver/problem.hpp"
 
 namespace rigidae {
 
-class SingleBodyProblem final : public DaeProblem {
+class SingleBodyProblem final : public DaeProblem, public ChartState {
  public:
   // `source` names the scene in messages (its file, or "" when built in code).
   SingleBodyProblem(const DaeSystem& dae, const EulerChartSpec& charts, const Mat3& R0_WB, const Vec3& omega0_B,
                     std::string source);
 
   // The chart the state is written in now, and the representation in it.
-  int chart() const { return chart_; }
-  const DaeSystem& system() const { return dae_; }
-  const Representation& representation() const { return dae_.representation(chart_); }
+  int chart() const override { return chart_; }
+  const DaeSystem& system() const override { return dae_; }
+  using ChartState::representation;
 
   int size() const override { return dae_.size(); }
   int state_size() const override { return dae_.layout().nq + dae_.layout().nv; }

@@ -16,7 +16,7 @@
 
 #include "rigidae/io/checked_file.hpp"
 #include "rigidae/record/columns.hpp"
-#include "rigidae/dae/single_body_problem.hpp"
+#include "rigidae/dae/chart_state.hpp"
 #include "rigidae/record/observation.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 
@@ -55,7 +55,7 @@ class RecordingSink : public StepSink {
 class RunRecorder final : public RecordingSink {
  public:
   // Observes the problem's states in its current chart.
-  RunRecorder(const SingleBodyProblem& problem, const Scene& scene, const std::filesystem::path& out_dir);
+  RunRecorder(const ChartState& problem, const Scene& scene, const std::filesystem::path& out_dir);
 
   void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
   void on_output(double t, const Eigen::VectorXd& y) override;
@@ -72,7 +72,7 @@ class RunRecorder final : public RecordingSink {
   // One row of `file` from the table of columns (record/columns.hpp).
   void write_row(CheckedStream& f, columns::File file, const columns::Sample& sample);
 
-  const SingleBodyProblem& problem_;
+  const ChartState& problem_;
   std::vector<std::string> multiplier_names_;
   bool with_chart_;
   Observer step_observer_, grid_observer_;

@@ -90,6 +90,11 @@ struct CrossProblem {
 };
 std::optional<CrossProblem> cross_problem(const Scene& scene);
 
+// The scheme a scene file that names `integrator` and no scheme runs:
+// "projection" for the ODE integrators (solver/integrators.hpp), "" (the
+// scene's default stands) for ida.
+std::string default_scheme(const std::string& integrator);
+
 // The value as text: numbers as fmt's shortest form, words as they are.
 std::string to_text(const Value& v);
 // The range or the valid values, as --help and docs state them:
