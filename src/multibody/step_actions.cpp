@@ -1,0 +1,94 @@
+// What the multibody problem does between steps: each body with Euler
+// angles switches its own chart (a root of margin - threshold, or a check
+// after each step), and the projection scheme maps the state back onto the
+// constraints when the drift passes its threshold (or after every step).
+#include <fmt/format.h>
+
+#include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/so3/euler_sequence.hpp"
+
+namespace rigidae::multibody {
+
+namespace {
+using ConstMap = Eigen::Map<const Eigen::VectorXd>;
+}
+
+int MultibodyProblem::event_count() const {
+  if (!switching_) return 0;
+  int n = 0;
+  for (const BodyModel& b : bodies_) n += b.rep->has_charts() ? 1 : 0;
+  return n;
+}
+
+void MultibodyProblem::event_functions(double /*t*/, const double* y, double* g) {
+  int k = 0;
+  for (const BodyModel& b : bodies_) {
+    if (!b.rep->has_charts()) continue;
+    const VecQ q = ConstMap(y + groups_[b.q_group].offset + 3, b.nqr);
+    g[k++] = b.rep->chart_margin(q) - switch_threshold_;
+  }
+}
+
+bool MultibodyProblem::change_charts(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp, bool at_root) {
+  if (!switching_) return false;
+  bool changed = false;
+  for (BodyModel& b : bodies_) {
+    if (!b.rep->has_charts()) continue;
+    const int qo = groups_[b.q_group].offset + 3, vo = groups_[b.v_group].offset + 3;
+    VecQ q = y.segment(qo, b.nqr);
+    VecV v = y.segment(vo, b.nvr);
+    const double margin = b.rep->chart_margin(q);
+    // At a root the margin equals the threshold to the root finder's tolerance.
+    if (margin > switch_threshold_ * (at_root ? 1.001 : 1.0)) continue;
+    const std::string from = b.rep->chart_name();
+    if (!b.rep->change_chart(q, v)) continue;
+    b.map->set_sequence(so3::parse_euler_sequence(b.rep->chart_name(), false));
+    y.segment(qo, b.nqr) = q;
+    y.segment(vo, b.nvr) = v;
+    EventNote note;
+    note.t = t;
+    note.what = "chart_switch";
+    note.body = b.name;
+    note.from = from;
+    note.to = b.rep->chart_name();
+    note.margin = margin;
+    events_.push_back(note);
+    changed = true;
+  }
+  if (changed) make_consistent(t, y, yp);
+  return changed;
+}
+
+StepAction MultibodyProblem::on_event(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
+  StepAction a;
+  if (change_charts(t, y, yp, true)) a.kind = StepAction::Kind::Restart;
+  return a;
+}
+
+StepAction MultibodyProblem::after_step(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
+  StepAction a;
+  if (change_charts(t, y, yp, false)) a.kind = StepAction::Kind::Restart;
+  if (scheme_.projection) {
+    const auto [pos, vel] = drift(t, y.data());
+    if (project_every_step_ || pos > projection_threshold_ || vel > projection_threshold_) {
+      project(t, y, yp);
+      EventNote note;
+      note.t = t;
+      note.what = "projection";
+      note.drift_position = pos;
+      note.drift_velocity = vel;
+      events_.push_back(note);
+      a.kind = StepAction::Kind::Restart;
+      a.projected = true;
+    }
+  }
+  return a;
+}
+
+std::vector<EventNote> MultibodyProblem::take_events() {
+  std::vector<EventNote> out;
+  out.swap(events_);
+  return out;
+}
+
+}  // namespace rigidae::multibody
