@@ -47,6 +47,7 @@
 #include "rigidae/app/solve.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/dae/dae_system.hpp"
+#include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/so3/rotation.hpp"
@@ -159,8 +160,6 @@ class FinalStateSink final : public StepSink {
     t_last = t;
     y_last = y;
   }
-  void on_chart_switch(const ChartSwitch&) override {}
-  void on_projection(double, const ConstraintDrift&) override {}
 };
 
 struct RunSample {
@@ -175,7 +174,8 @@ RunSample run_unrecorded(const Scene& s) {
   RunSample r;
   const auto t0 = std::chrono::steady_clock::now();
   try {
-    r.run = integrate(*dae, s, sink);
+    SingleBodyProblem problem(*dae, s.formulation.euler, s.R0_WB, s.omega0_B, s.source);
+    r.run = integrate(problem, s.solver, s.time, sink);
   } catch (const SolverError& e) {
     r.run.status = RunStatus::Failed;
     r.run.message = e.what();

@@ -9,6 +9,7 @@
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/dae/dae_system.hpp"
+#include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/so3/rotation.hpp"
 
 namespace rigidae {
@@ -147,7 +148,8 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
   RunRecorder recorder(*dae, scene, out_dir);
   const auto t0 = std::chrono::steady_clock::now();
   try {
-    o.run = integrate(*dae, scene, recorder);
+    SingleBodyProblem problem(*dae, scene.formulation.euler, scene.R0_WB, scene.omega0_B, scene.source);
+    o.run = integrate(problem, scene.solver, scene.time, recorder);
   } catch (const SolverError& e) {
     o.run.status = RunStatus::Failed;
     o.run.message = e.what();

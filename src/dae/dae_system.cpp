@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace rigidae {
 
@@ -9,12 +10,20 @@ DaeSystem::DaeSystem(const Scene& scene, std::unique_ptr<Representation> rep,
                      std::unique_ptr<ConstraintScheme> scheme)
     : body_(make_rigid_body_model(scene)), rep_(std::move(rep)), scheme_(std::move(scheme)) {
   layout_ = scheme_->layout(*rep_);
-  const int n = layout_.size();
-  y_pert_.resize(n);
-  yp_pert_.resize(n);
-  F_plus_.resize(n);
-  F_minus_.resize(n);
-  F_base_.resize(n);
+  const UnknownLayout& lay = layout_;
+  const int n = lay.size();
+  pattern_.col_start.push_back(0);
+  for (int c = 0; c < n; ++c) {
+    for (int r = 0; r < n; ++r)
+      if (structurally_nonzero(r, c)) pattern_.rows.push_back(r);
+    pattern_.col_start.push_back(static_cast<std::int64_t>(pattern_.rows.size()));
+  }
+  lambda_values_ = static_cast<std::int64_t>(n) * (lay.nq + lay.nv);
+  mu_values_ = lambda_values_ + static_cast<std::int64_t>(lay.nv) * lay.n_lambda;
+  // The blocks' offsets hold only if the pattern is laid out as the view assumes.
+  if (pattern_.col_start[lay.lambda_offset()] != lambda_values_ || pattern_.col_start[lay.mu_offset()] != mu_values_ ||
+      pattern_.nnz() != mu_values_ + static_cast<std::int64_t>(lay.nq) * lay.n_mu)
+    throw std::logic_error("DaeSystem: the sparse pattern does not have the iteration matrix's block layout");
 }
 
 VecQ DaeSystem::coordinates(const double* y) const {
@@ -32,18 +41,39 @@ void DaeSystem::residual(double t, const double* y, const double* yp, double* F)
                     Eigen::Map<Eigen::VectorXd>(F, n));
 }
 
-void DaeSystem::iteration_matrix(double t, double cj, const double* y, const double* yp, double* J) const {
+void DaeSystem::assemble_iteration_matrix(double t, double cj, const double* y, const double* yp,
+                                          IterationMatrixView& J) const {
   const int n = layout_.size();
   const Eigen::Map<const Eigen::VectorXd> ym(y, n), ypm(yp, n);
   const ConstVecRef y_ref(ym), yp_ref(ypm);
-  Eigen::Map<Eigen::MatrixXd> Jm(J, n, n);
   const VecQ q = coordinates(y);
   const VecV v = velocities(y);
   const VecV a = ypm.segment(layout_.v_offset(), layout_.nv);
   rep_->evaluate(t, q, v, terms_);
   rep_->differentiate(t, q, v, a, derivs_);
+  scheme_->iteration_matrix({*rep_, terms_, derivs_, layout_, y_ref, yp_ref, cj}, J);
+}
+
+void DaeSystem::iteration_matrix(double t, double cj, const double* y, const double* yp, double* J) const {
+  const UnknownLayout& lay = layout_;
+  const int n = lay.size();
+  Eigen::Map<Eigen::MatrixXd> Jm(J, n, n);
   Jm.setZero();
-  scheme_->iteration_matrix({*rep_, terms_, derivs_, layout_, y_ref, yp_ref, cj}, Jm);
+  IterationMatrixView view{Jm.leftCols(lay.nq + lay.nv),
+                           Jm.block(lay.v_offset(), lay.lambda_offset(), lay.nv, lay.n_lambda),
+                           Jm.block(lay.q_offset(), lay.mu_offset(), lay.nq, lay.n_mu)};
+  assemble_iteration_matrix(t, cj, y, yp, view);
+}
+
+void DaeSystem::iteration_matrix_sparse(double t, double cj, const double* y, const double* yp,
+                                        double* values) const {
+  const UnknownLayout& lay = layout_;
+  std::fill(values, values + pattern_.nnz(), 0.0);
+  Eigen::Map<Eigen::MatrixXd> state(values, lay.size(), lay.nq + lay.nv);
+  Eigen::Map<Eigen::MatrixXd> lambda(values + lambda_values_, lay.nv, lay.n_lambda);
+  Eigen::Map<Eigen::MatrixXd> mu(values + mu_values_, lay.nq, lay.n_mu);
+  IterationMatrixView view{state, lambda, mu};
+  assemble_iteration_matrix(t, cj, y, yp, view);
 }
 
 bool DaeSystem::structurally_nonzero(int row, int col) const {
@@ -55,34 +85,6 @@ bool DaeSystem::structurally_nonzero(int row, int col) const {
   if (cg <= 1) return true;            // every row depends on q and v (or q', v')
   if (cg == 2) return rg == 1;         // G^T lambda in the dynamic rows
   return rg == 0;                      // Phi_q^T mu in the kinematic rows
-}
-
-void DaeSystem::iteration_matrix_central(double t, double cj, const double* y, const double* yp, double* J) const {
-  const int n = layout_.size();
-  Eigen::Map<Eigen::MatrixXd> Jm(J, n, n);
-  y_pert_ = Eigen::Map<const Eigen::VectorXd>(y, n);
-  yp_pert_ = Eigen::Map<const Eigen::VectorXd>(yp, n);
-  constexpr double kCentralStep = 6.0e-6;  // ~ cbrt(machine epsilon)
-  residual(t, y, yp, F_base_.data());
-  jacobian_residual_evals_ += 3 * n + 1;
-  for (int j = 0; j < n; ++j) {
-    // d/dy_j by central differences.
-    const double yj = y[j];
-    const double dy = kCentralStep * std::max(1.0, std::abs(yj));
-    y_pert_(j) = yj + dy;
-    residual(t, y_pert_.data(), yp, F_plus_.data());
-    y_pert_(j) = yj - dy;
-    residual(t, y_pert_.data(), yp, F_minus_.data());
-    y_pert_(j) = yj;
-    Jm.col(j) = (F_plus_ - F_minus_) / (2.0 * dy);
-    // d/dy'_j exactly (F is affine in y'), by a difference with a large step.
-    const double ypj = yp[j];
-    const double dyp = std::max(1.0, std::abs(ypj));
-    yp_pert_(j) = ypj + dyp;
-    residual(t, y, yp_pert_.data(), F_plus_.data());
-    yp_pert_(j) = ypj;
-    Jm.col(j) += cj * (F_plus_ - F_base_) / dyp;
-  }
 }
 
 void DaeSystem::consistent_state(double t, const Mat3& R_WB, const Vec3& omega_B, Eigen::VectorXd& y,

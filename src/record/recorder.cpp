@@ -123,12 +123,11 @@ void RunRecorder::on_output(double t, const Eigen::VectorXd& y) {
   if (extremes_.steps_recorded == 0) extremes_.last = o;
 }
 
-void RunRecorder::on_chart_switch(const ChartSwitch& s) {
-  fmt::print(events_.file(), "{},chart_switch,{},{},{},,\n", s.t, s.from, s.to, s.margin);
-}
-
-void RunRecorder::on_projection(double t, const ConstraintDrift& before) {
-  fmt::print(events_.file(), "{},projection,,,,{},{}\n", t, before.position, before.velocity);
+void RunRecorder::on_event(const EventNote& e) {
+  if (e.what == "chart_switch")
+    fmt::print(events_.file(), "{},chart_switch,{},{},{},,\n", e.t, e.from, e.to, e.margin);
+  else if (e.what == "projection")
+    fmt::print(events_.file(), "{},projection,,,,{},{}\n", e.t, e.drift_position, e.drift_velocity);
 }
 
 void RunRecorder::flush() {

@@ -48,7 +48,7 @@ class BaumgarteScheme final : public ConstraintScheme {
     }
   }
 
-  void iteration_matrix(const JacobianInputs& in, MatRef J) const override {
+  void iteration_matrix(const JacobianInputs& in, IterationMatrixView& J) const override {
     add_kinematic_jacobian(in, J);
     add_dynamic_jacobian(in, J);
     if (in.lay.n_lambda > 0) {

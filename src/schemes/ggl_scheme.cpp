@@ -34,7 +34,7 @@ class GglScheme final : public ConstraintScheme {
     if (lay.n_mu > 0) F.segment(lay.mu_offset(), lay.n_mu) = t.phi;
   }
 
-  void iteration_matrix(const JacobianInputs& in, MatRef J) const override {
+  void iteration_matrix(const JacobianInputs& in, IterationMatrixView& J) const override {
     add_kinematic_jacobian(in, J);
     add_dynamic_jacobian(in, J);
     if (in.lay.n_lambda > 0) add_velocity_level_jacobian(in, in.lay.lambda_offset(), 1.0, J);

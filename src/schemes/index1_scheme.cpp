@@ -33,7 +33,7 @@ class Index1Scheme final : public ConstraintScheme {
     index1_residual(t, lay, y, yp, F);
   }
 
-  void iteration_matrix(const JacobianInputs& in, MatRef J) const override { add_index1_jacobian(in, J); }
+  void iteration_matrix(const JacobianInputs& in, IterationMatrixView& J) const override { add_index1_jacobian(in, J); }
 };
 
 }  // namespace

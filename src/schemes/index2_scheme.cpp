@@ -32,7 +32,7 @@ class Index2Scheme final : public ConstraintScheme {
     if (lay.n_lambda + lay.n_mu > 0) velocity_level_rows(t, lay, y, yp, constraint_rows(lay, F));
   }
 
-  void iteration_matrix(const JacobianInputs& in, MatRef J) const override {
+  void iteration_matrix(const JacobianInputs& in, IterationMatrixView& J) const override {
     add_kinematic_jacobian(in, J);
     add_dynamic_jacobian(in, J);
     if (in.lay.n_lambda + in.lay.n_mu > 0) add_velocity_level_jacobian(in, constraint_row(in.lay), 1.0, J);

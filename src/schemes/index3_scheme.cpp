@@ -39,7 +39,7 @@ class Index3Scheme final : public ConstraintScheme {
     if (lay.n_lambda + lay.n_mu > 0) position_level_rows(t, constraint_rows(lay, F));
   }
 
-  void iteration_matrix(const JacobianInputs& in, MatRef J) const override {
+  void iteration_matrix(const JacobianInputs& in, IterationMatrixView& J) const override {
     add_kinematic_jacobian(in, J);
     add_dynamic_jacobian(in, J);
     if (in.lay.n_lambda + in.lay.n_mu > 0) add_position_level_jacobian(in, constraint_row(in.lay), 1.0, J);

@@ -9,63 +9,63 @@ namespace rigidae::schemes {
 inline VecQ coordinates_of(const JacobianInputs& in) { return in.y.segment(in.lay.q_offset(), in.lay.nq); }
 
 // Rows q' - N v (+ Phi_q^T mu).
-inline void add_kinematic_jacobian(const JacobianInputs& in, MatRef J) {
+inline void add_kinematic_jacobian(const JacobianInputs& in, IterationMatrixView& J) {
   const UnknownLayout& lay = in.lay;
   const int r = lay.q_offset(), nq = lay.nq;
-  J.block(r, lay.q_offset(), nq, nq) -= in.derivs.qdot_q;
-  J.block(r, lay.q_offset(), nq, nq).diagonal().array() += in.cj;
-  J.block(r, lay.v_offset(), nq, lay.nv) -= in.derivs.N;
+  J.state.block(r, lay.q_offset(), nq, nq) -= in.derivs.qdot_q;
+  J.state.block(r, lay.q_offset(), nq, nq).diagonal().array() += in.cj;
+  J.state.block(r, lay.v_offset(), nq, lay.nv) -= in.derivs.N;
   if (lay.n_mu > 0) {
     MatQQ H;
     in.rep.constraint_hessian_weighted(coordinates_of(in), in.y.segment(lay.mu_offset(), lay.n_mu), H);
-    J.block(r, lay.q_offset(), nq, nq) += H;
-    J.block(r, lay.mu_offset(), nq, lay.n_mu) += in.terms.phi_q.transpose();
+    J.state.block(r, lay.q_offset(), nq, nq) += H;
+    J.mu += in.terms.phi_q.transpose();
   }
 }
 
 // Rows M v' - f (+ G^T lambda); G = Phi_q where lambda exists (Force kind).
-inline void add_dynamic_jacobian(const JacobianInputs& in, MatRef J) {
+inline void add_dynamic_jacobian(const JacobianInputs& in, IterationMatrixView& J) {
   const UnknownLayout& lay = in.lay;
   const int r = lay.v_offset(), nv = lay.nv;
-  J.block(r, lay.q_offset(), nv, lay.nq) += in.derivs.Ma_q - in.derivs.f_q;
-  J.block(r, lay.v_offset(), nv, nv) += in.cj * in.terms.M - in.derivs.f_v;
+  J.state.block(r, lay.q_offset(), nv, lay.nq) += in.derivs.Ma_q - in.derivs.f_q;
+  J.state.block(r, lay.v_offset(), nv, nv) += in.cj * in.terms.M - in.derivs.f_v;
   if (lay.n_lambda > 0) {
     MatQQ H;
     in.rep.constraint_hessian_weighted(coordinates_of(in), in.y.segment(lay.lambda_offset(), lay.n_lambda), H);
-    J.block(r, lay.q_offset(), nv, lay.nq) += H;
-    J.block(r, lay.lambda_offset(), nv, lay.n_lambda) += in.terms.G.transpose();
+    J.state.block(r, lay.q_offset(), nv, lay.nq) += H;
+    J.lambda += in.terms.G.transpose();
   }
 }
 
 // weight * Phi(q) in the rows starting at `row`.
-inline void add_position_level_jacobian(const JacobianInputs& in, int row, double weight, MatRef J) {
-  J.block(row, in.lay.q_offset(), in.terms.phi_q.rows(), in.lay.nq) += weight * in.terms.phi_q;
+inline void add_position_level_jacobian(const JacobianInputs& in, int row, double weight, IterationMatrixView& J) {
+  J.state.block(row, in.lay.q_offset(), in.terms.phi_q.rows(), in.lay.nq) += weight * in.terms.phi_q;
 }
 
 // weight * (G v) (Force kind, the layout carries lambda) or weight * Phi_q q'
 // (Kinematic kind) in the rows starting at `row`.
-inline void add_velocity_level_jacobian(const JacobianInputs& in, int row, double weight, MatRef J) {
+inline void add_velocity_level_jacobian(const JacobianInputs& in, int row, double weight, IterationMatrixView& J) {
   const UnknownLayout& lay = in.lay;
   const int nc = in.terms.phi_q.rows();
   MatCQ H;
   if (lay.n_lambda > 0) {
     in.rep.constraint_hessian_applied(coordinates_of(in), in.y.segment(lay.v_offset(), lay.nv), H);
-    J.block(row, lay.v_offset(), nc, lay.nv) += weight * in.terms.G;
+    J.state.block(row, lay.v_offset(), nc, lay.nv) += weight * in.terms.G;
   } else {
     in.rep.constraint_hessian_applied(coordinates_of(in), in.yp.segment(lay.q_offset(), lay.nq), H);
-    J.block(row, lay.q_offset(), nc, lay.nq) += (weight * in.cj) * in.terms.phi_q;
+    J.state.block(row, lay.q_offset(), nc, lay.nq) += (weight * in.cj) * in.terms.phi_q;
   }
-  J.block(row, lay.q_offset(), nc, lay.nq) += weight * H;
+  J.state.block(row, lay.q_offset(), nc, lay.nq) += weight * H;
 }
 
 // G v' - gamma (Force kind) in the rows starting at `row`.
-inline void add_acceleration_level_jacobian(const JacobianInputs& in, int row, MatRef J) {
+inline void add_acceleration_level_jacobian(const JacobianInputs& in, int row, IterationMatrixView& J) {
   const UnknownLayout& lay = in.lay;
   const int nc = in.terms.G.rows();
   MatCQ H;
   in.rep.constraint_hessian_applied(coordinates_of(in), in.yp.segment(lay.v_offset(), lay.nv), H);
-  J.block(row, lay.q_offset(), nc, lay.nq) += H - in.derivs.gamma_q;
-  J.block(row, lay.v_offset(), nc, lay.nv) += in.cj * in.terms.G - in.derivs.gamma_v;
+  J.state.block(row, lay.q_offset(), nc, lay.nq) += H - in.derivs.gamma_q;
+  J.state.block(row, lay.v_offset(), nc, lay.nv) += in.cj * in.terms.G - in.derivs.gamma_v;
 }
 
 // The first row of the group a single-level scheme writes its constraint rows to.
@@ -74,7 +74,7 @@ inline int constraint_row(const UnknownLayout& lay) {
 }
 
 // The whole index-1 iteration matrix (index1 and projection).
-inline void add_index1_jacobian(const JacobianInputs& in, MatRef J) {
+inline void add_index1_jacobian(const JacobianInputs& in, IterationMatrixView& J) {
   add_kinematic_jacobian(in, J);
   add_dynamic_jacobian(in, J);
   if (in.lay.n_lambda > 0) add_acceleration_level_jacobian(in, in.lay.lambda_offset(), J);

@@ -13,7 +13,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <exception>
+#include <optional>
+#include <utility>
 
+#include "central_differences.hpp"
 #include "rigidae/core/error.hpp"
 
 namespace rigidae {
@@ -53,6 +56,8 @@ std::vector<double> output_grid(const TimeGrid& grid) {
 
 namespace {
 
+using solver::CentralDifferences;
+
 // Owns the SUNDIALS objects of one run; frees them in any case.
 struct IdaSession {
   SUNContext ctx = nullptr;
@@ -86,41 +91,22 @@ struct IdaSession {
   IdaSession& operator=(const IdaSession&) = delete;
 };
 
-// The iteration matrix's nonzero pattern in compressed sparse columns.
-struct SparsePattern {
-  std::vector<sunindextype> col_start;  // n + 1
-  std::vector<sunindextype> rows;       // nnz, ascending within a column
-};
+static_assert(sizeof(sunindextype) == sizeof(std::int64_t), "SparsityPattern holds 64-bit indices (Debian's SUNDIALS)");
 
-SparsePattern sparse_pattern(const DaeSystem& dae) {
-  SparsePattern p;
-  const int n = dae.size();
-  p.col_start.push_back(0);
-  for (int c = 0; c < n; ++c) {
-    for (int r = 0; r < n; ++r)
-      if (dae.structurally_nonzero(r, c)) p.rows.push_back(r);
-    p.col_start.push_back(static_cast<sunindextype>(p.rows.size()));
-  }
-  return p;
-}
-
+// What IDA's callbacks reach through user_data.
 struct CallbackData {
-  const DaeSystem* dae = nullptr;
-  double threshold = 0.0;
-  bool exact_jacobian = true;  // else central differences
-  SparsePattern pattern;       // empty for dense linear algebra
-  std::vector<double> dense;   // n x n scratch when the matrix is sparse
-  std::exception_ptr error;    // never thrown through C; rethrown by the driver
+  DaeProblem* problem = nullptr;
+  const SparsityPattern* pattern = nullptr;   // null: dense linear algebra
+  CentralDifferences* differences = nullptr;  // null: the problem's exact matrix
+  std::exception_ptr error;                   // never thrown through C; rethrown by the driver
 };
 
 int residual_callback(realtype t, N_Vector yy, N_Vector yp, N_Vector rr, void* user_data) {
   auto* data = static_cast<CallbackData*>(user_data);
   try {
-    data->dae->residual(t, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp), N_VGetArrayPointer(rr));
-    const double* F = N_VGetArrayPointer(rr);
-    for (int i = 0, n = data->dae->size(); i < n; ++i)
-      if (!std::isfinite(F[i])) return 1;  // recoverable: IDA retries with a smaller step
-    return 0;
+    DaeProblem& p = *data->problem;
+    const bool finite = p.residual(t, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp), N_VGetArrayPointer(rr));
+    return finite ? 0 : 1;  // 1 is recoverable: IDA retries with a smaller step
   } catch (...) {
     data->error = std::current_exception();
     return -1;
@@ -131,22 +117,26 @@ int jacobian_callback(realtype t, realtype cj, N_Vector yy, N_Vector yp, N_Vecto
                       void* user_data, N_Vector /*t1*/, N_Vector /*t2*/, N_Vector /*t3*/) {
   auto* data = static_cast<CallbackData*>(user_data);
   try {
-    const bool sparse = !data->pattern.rows.empty();
-    double* M = sparse ? data->dense.data() : SUNDenseMatrix_Data(J);
-    if (data->exact_jacobian)
-      data->dae->iteration_matrix(t, cj, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp), M);
-    else
-      data->dae->iteration_matrix_central(t, cj, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp), M);
-    if (sparse) {
-      // IDA zeroes the whole sparse matrix, structure included, before each call.
-      const SparsePattern& p = data->pattern;
-      const std::size_t n = p.col_start.size() - 1;
-      std::copy(p.col_start.begin(), p.col_start.end(), SUNSparseMatrix_IndexPointers(J));
-      std::copy(p.rows.begin(), p.rows.end(), SUNSparseMatrix_IndexValues(J));
-      double* values = SUNSparseMatrix_Data(J);
-      for (std::size_t c = 0; c < n; ++c)
-        for (sunindextype k = p.col_start[c]; k < p.col_start[c + 1]; ++k) values[k] = M[c * n + p.rows[k]];
+    DaeProblem& p = *data->problem;
+    const double* y = N_VGetArrayPointer(yy);
+    const double* ypp = N_VGetArrayPointer(yp);
+    if (!data->pattern) {
+      double* M = SUNDenseMatrix_Data(J);
+      if (data->differences)
+        data->differences->dense(p, t, cj, y, ypp, M);
+      else
+        p.iteration_matrix_dense(t, cj, y, ypp, M);
+      return 0;
     }
+    // IDA zeroes the whole sparse matrix, structure included, before each call.
+    const SparsityPattern& pattern = *data->pattern;
+    std::copy(pattern.col_start.begin(), pattern.col_start.end(), SUNSparseMatrix_IndexPointers(J));
+    std::copy(pattern.rows.begin(), pattern.rows.end(), SUNSparseMatrix_IndexValues(J));
+    double* values = SUNSparseMatrix_Data(J);
+    if (data->differences)
+      data->differences->sparse(p, pattern, t, cj, y, ypp, values);
+    else
+      p.iteration_matrix_sparse(t, cj, y, ypp, values);
     return 0;
   } catch (...) {
     data->error = std::current_exception();
@@ -154,12 +144,15 @@ int jacobian_callback(realtype t, realtype cj, N_Vector yy, N_Vector yp, N_Vecto
   }
 }
 
-// g = chart margin - threshold: a root where the chart nears its singularity.
-int chart_root_callback(realtype /*t*/, N_Vector yy, N_Vector /*yp*/, realtype* g, void* user_data) {
+int event_callback(realtype t, N_Vector yy, N_Vector /*yp*/, realtype* g, void* user_data) {
   auto* data = static_cast<CallbackData*>(user_data);
-  const DaeSystem& dae = *data->dae;
-  g[0] = dae.representation().chart_margin(dae.coordinates(N_VGetArrayPointer(yy))) - data->threshold;
-  return 0;
+  try {
+    data->problem->event_functions(t, N_VGetArrayPointer(yy), g);
+    return 0;
+  } catch (...) {
+    data->error = std::current_exception();
+    return -1;
+  }
 }
 
 // IDA's name for a return flag. IDAGetReturnFlagName mallocs the string and
@@ -222,14 +215,15 @@ std::string explain_failure(int flag) {
 // IDA's own guess (0.5 / |y'| in the weighted norm) is far smaller on a fast
 // spinning body (|y'| / rtol ~ 1e10), and index-2 iteration matrices become
 // numerically singular at tiny steps (their condition grows like 1/h^2).
-// y'' comes from a difference of consistent y' along a short explicit step.
-double first_step_estimate(const DaeSystem& dae, double t0, const Eigen::VectorXd& y, const Eigen::VectorXd& yp,
+// y'' of the state comes from a difference of consistent y' along a short
+// explicit step.
+double first_step_estimate(DaeProblem& p, double t0, const Eigen::VectorXd& y, const Eigen::VectorXd& yp,
                            const SolverSettings& opt, double span) {
-  const int nd = dae.layout().nq + dae.layout().nv;  // differential unknowns only
+  const int nd = p.state_size();
   const double rate = yp.head(nd).cwiseAbs().maxCoeff();
   const double delta = rate > 0 ? std::min(1e-4 * span, 1e-3 / rate) : 1e-4 * span;
   Eigen::VectorXd y1 = y + delta * yp, yp1;
-  dae.make_consistent(t0 + delta, y1, yp1);
+  p.make_consistent(t0 + delta, y1, yp1);
   const Eigen::VectorXd ydd = (yp1.head(nd) - yp.head(nd)) / delta;
   const Eigen::VectorXd w = (opt.rtol * y.head(nd).cwiseAbs()).array() + opt.atol;
   const double norm = std::sqrt((ydd.cwiseQuotient(w)).squaredNorm() / nd);
@@ -237,240 +231,245 @@ double first_step_estimate(const DaeSystem& dae, double t0, const Eigen::VectorX
   return std::min(h, 1e-3 * span);
 }
 
-// Re-expresses (y, y') at t in the most regular chart and makes it
-// consistent. Returns the switch, with `to` empty if the chart stayed.
-ChartSwitch change_chart(DaeSystem& dae, double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
-  Representation& rep = dae.representation();
-  VecQ q = dae.coordinates(y.data());
-  VecV v = dae.velocities(y.data());
-  ChartSwitch s{t, rep.chart_name(), "", rep.chart_margin(q)};
-  if (!rep.change_chart(q, v)) return s;
-  s.to = rep.chart_name();
-  y.segment(dae.layout().q_offset(), q.size()) = q;
-  y.segment(dae.layout().v_offset(), v.size()) = v;
-  dae.make_consistent(t, y, yp);
-  return s;
+// One run of IDA over the time grid: the steps of the method as methods.
+class IdaRun {
+ public:
+  IdaRun(DaeProblem& problem, const SolverSettings& opt, const TimeGrid& span, StepSink& sink)
+      : problem_(problem), opt_(opt), span_(span), sink_(sink), n_(problem.size()),
+        ida_(n_, opt.linear_solver == "klu" ? problem.sparsity().nnz() : 0),
+        y_ida_(N_VGetArrayPointer(ida_.y), n_), yp_ida_(N_VGetArrayPointer(ida_.yp), n_), grid_(span),
+        yout_(n_) {
+    data_.problem = &problem_;
+    if (opt.linear_solver == "klu") data_.pattern = &problem_.sparsity();
+    if (opt.jacobian == "central") {
+      differences_.emplace(n_);
+      data_.differences = &*differences_;
+    }
+  }
+
+  // A consistent start, IDA set up on it, the first output point.
+  void start();
+  // Whether the run goes on: not at the end, not interrupted, within max_steps.
+  bool running();
+  // One internal IDA step; false when IDA failed (the result says why).
+  bool advance_one_step();
+  // Whether that step stopped at a root of the problem's event functions.
+  bool at_event() const { return flag_ == IDA_ROOT_RETURN; }
+  // The problem's event (a root of its event functions) at t.
+  void handle_event();
+  // After an accepted step: record it, then the problem's after-step action.
+  void after_step();
+  RunResult finish();
+
+ private:
+  // Carries out what the problem asked for at t, then forwards its events.
+  void apply(const StepAction& action);
+  // Hands (y, y') at t back to IDA as a new start with first step h0.
+  void restart(double h0);
+  // Output-grid points up to t, interpolated from IDA's last step.
+  void emit_grid_until(double t);
+  void forward_events();
+  double last_step() const;
+  void fail(std::string message) {
+    result_.status = RunStatus::Failed;
+    result_.message = std::move(message);
+    stopped_ = true;
+  }
+
+  DaeProblem& problem_;
+  const SolverSettings& opt_;
+  const TimeGrid& span_;
+  StepSink& sink_;
+  const int n_;
+  IdaSession ida_;
+  Eigen::Map<Eigen::VectorXd> y_ida_, yp_ida_;  // IDA's own y and y'
+  std::optional<CentralDifferences> differences_;
+  CallbackData data_;
+  const OutputGrid grid_;
+  std::size_t next_out_ = 0;
+
+  RunResult result_;
+  Eigen::VectorXd y_, yp_, yout_;
+  double t_ = 0.0;
+  int flag_ = 0;                // of the last IDASolve
+  long steps_total_ = 0;
+  IdaCounters before_restart_;  // counters of the segments before the last IDAReInit
+  bool stopped_ = false;
+};
+
+void IdaRun::start() {
+  t_ = span_.start;
+  problem_.initial_state(t_, y_, yp_);
+  forward_events();  // a chart chosen at the start
+
+  y_ida_ = y_;
+  yp_ida_ = yp_;
+  problem_.differential_id(Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(ida_.id), n_));
+  problem_.absolute_tolerances(opt_.rtol, opt_.atol, y_, Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(ida_.atol), n_));
+  {
+    Eigen::VectorXd F(n_);
+    problem_.residual(t_, y_.data(), yp_.data(), F.data());
+    result_.initial_residual = F.cwiseAbs().maxCoeff();
+  }
+
+  void* mem = ida_.mem;
+  check(IDAInit(mem, residual_callback, t_, ida_.y, ida_.yp), "IDAInit");
+  check(IDASVtolerances(mem, opt_.rtol, ida_.atol), "IDASVtolerances");
+  check(IDASetUserData(mem, &data_), "IDASetUserData");
+  check(IDASetId(mem, ida_.id), "IDASetId");
+  check(IDASetSuppressAlg(mem, problem_.suppress_algebraic_error_test() ? SUNTRUE : SUNFALSE), "IDASetSuppressAlg");
+  check(IDASetLinearSolver(mem, ida_.LS, ida_.A), "IDASetLinearSolver");
+  if (opt_.jacobian != "ida_dq") check(IDASetJacFn(mem, jacobian_callback), "IDASetJacFn");
+  check(IDASetMaxOrd(mem, opt_.max_order), "IDASetMaxOrd");
+  check(IDASetStopTime(mem, span_.end), "IDASetStopTime");
+  const double h0 = opt_.initial_step > 0 ? opt_.initial_step
+                                          : first_step_estimate(problem_, t_, y_, yp_, opt_, span_.end - span_.start);
+  check(IDASetInitStep(mem, h0), "IDASetInitStep");
+  if (problem_.event_count() > 0) check(IDARootInit(mem, problem_.event_count(), event_callback), "IDARootInit");
+
+  sink_.on_output(t_, y_);
+  next_out_ = 1;
 }
 
-void record_switch(RunResult& result, StepSink& sink, const ChartSwitch& s) {
-  ++result.switch_count;
-  if (result.switches.size() < kSwitchesKept) result.switches.push_back(s);
-  sink.on_chart_switch(s);
+bool IdaRun::running() {
+  if (stopped_ || t_ >= span_.end) return false;
+  if (g_interrupt_requested.load()) {
+    result_.status = RunStatus::Interrupted;
+    result_.message = fmt::format("interrupted by a signal (Ctrl-C or SIGTERM) at t = {:.9g} s, last step size "
+                                  "{:.3g} s, after {} steps; the steps so far are kept",
+                                  t_, last_step(), steps_total_);
+    return false;
+  }
+  if (steps_total_ >= opt_.max_steps) {
+    // IDA's own limit (IDA_TOO_MUCH_WORK) counts steps per call; one step per call, rigidae counts the run.
+    const double h = last_step();
+    fail(fmt::format(
+        "too much work (IDA_TOO_MUCH_WORK): max_steps = {} internal steps taken and t = {:.9g} s of {:.9g} s "
+        "reached, last step size {:.3g} s; at that step size the rest would take about {:.3g} more steps. "
+        "Likely cause: {}",
+        opt_.max_steps, t_, span_.end, h, h > 0 ? (span_.end - t_) / h : 0.0,
+        h > 0 && h < 1e-9 * (span_.end - span_.start)
+            ? "the step size has collapsed (a near-singularity, or tolerances too tight for this formulation)"
+            : "the run is longer or faster than max_steps allows (raise --max-steps or solver.max_steps)"));
+    return false;
+  }
+  return true;
+}
+
+bool IdaRun::advance_one_step() {
+  flag_ = IDASolve(ida_.mem, span_.end, &t_, ida_.y, ida_.yp, IDA_ONE_STEP);
+  if (data_.error) std::rethrow_exception(data_.error);
+  if (flag_ < 0) {
+    double h = 0.0, tcur = t_;
+    IDAGetCurrentStep(ida_.mem, &h);
+    IDAGetCurrentTime(ida_.mem, &tcur);
+    t_ = tcur;
+    fail(fmt::format("IDA failed with {} at t = {:.9g} s, step size {:.3g} s: {}", flag_name(flag_), tcur, h,
+                     explain_failure(flag_)));
+    return false;
+  }
+  emit_grid_until(t_);
+  return true;
+}
+
+void IdaRun::handle_event() {
+  y_ = y_ida_;
+  yp_ = yp_ida_;
+  apply(problem_.on_event(t_, last_step(), y_, yp_));
+}
+
+void IdaRun::after_step() {
+  ++steps_total_;
+  double h = 0.0;
+  int order = 0;
+  IDAGetLastStep(ida_.mem, &h);
+  IDAGetLastOrder(ida_.mem, &order);
+  y_ = y_ida_;
+  sink_.on_step(t_, h, order, y_);
+  if (t_ < span_.end) {
+    yp_ = yp_ida_;
+    apply(problem_.after_step(t_, h, y_, yp_));
+  }
+}
+
+void IdaRun::apply(const StepAction& action) {
+  switch (action.kind) {
+    case StepAction::Kind::Continue: break;
+    case StepAction::Kind::Fail: fail(action.message); break;
+    case StepAction::Kind::Restart:
+      // IDA keeps no memory across the restart: the order and the history
+      // are lost; the problem says whether the step size is carried over.
+      restart(action.restart_step > 0
+                  ? action.restart_step
+                  : first_step_estimate(problem_, t_, y_, yp_, opt_, span_.end - span_.start));
+      if (action.projected) ++before_restart_.projections;
+      break;
+  }
+  forward_events();
+}
+
+void IdaRun::restart(double h0) {
+  y_ida_ = y_;
+  yp_ida_ = yp_;
+  add_counters(ida_.mem, before_restart_);
+  check(IDAReInit(ida_.mem, t_, ida_.y, ida_.yp), "IDAReInit");
+  check(IDASetInitStep(ida_.mem, h0), "IDASetInitStep");
+  ++before_restart_.restarts;
+}
+
+void IdaRun::emit_grid_until(double t) {
+  while (next_out_ < grid_.size() && grid_[next_out_] <= t) {
+    const double t_out = grid_[next_out_];
+    if (IDAGetDky(ida_.mem, t_out, 0, ida_.dky) < 0) break;
+    yout_ = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(ida_.dky), n_);
+    sink_.on_output(t_out, yout_);
+    ++next_out_;
+  }
+}
+
+void IdaRun::forward_events() {
+  for (const EventNote& note : problem_.take_events()) {
+    if (note.what == "chart_switch") {
+      ++result_.switch_count;
+      if (result_.switches.size() < kSwitchesKept) result_.switches.push_back({note.t, note.from, note.to, note.margin});
+    }
+    sink_.on_event(note);
+  }
+}
+
+double IdaRun::last_step() const {
+  double h = 0.0;
+  IDAGetLastStep(ida_.mem, &h);
+  return h;
+}
+
+RunResult IdaRun::finish() {
+  result_.t_reached = t_;
+  result_.counters = before_restart_;
+  add_counters(ida_.mem, result_.counters);
+  result_.counters.jacobian_residual_evals += problem_.own_residual_evaluations();
+  if (differences_) result_.counters.jacobian_residual_evals += differences_->residual_evaluations();
+  IDAGetLastStep(ida_.mem, &result_.counters.last_step);
+  IDAGetLastOrder(ida_.mem, &result_.counters.last_order);
+  return result_;
 }
 
 }  // namespace
 
-RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink) {
-  const int n = dae.size();
-  const SolverSettings& opt = scene.solver;
-  const TimeGrid& span = scene.time;
-  const EulerChartSpec& charts = scene.formulation.euler;
-  Representation& rep = dae.representation();
-  const bool watch_charts = rep.has_charts();
-
-  RunResult result;
-  CallbackData data;
-  data.dae = &dae;
-  data.threshold = charts.switch_threshold;
-  data.exact_jacobian = opt.jacobian == "exact";
-  const bool klu = opt.linear_solver == "klu";
-  if (klu) {
-    if (opt.jacobian == "ida_dq")
-      throw InputError("solver.linear_solver = \"klu\" needs solver.jacobian = \"exact\" or \"central\": IDA's "
-                       "difference quotients fill dense and banded matrices only");
-    data.pattern = sparse_pattern(dae);
-    data.dense.resize(static_cast<std::size_t>(n) * n);
+RunResult integrate(DaeProblem& problem, const SolverSettings& settings, const TimeGrid& time, StepSink& sink) {
+  if (settings.linear_solver == "klu" && settings.jacobian == "ida_dq")
+    throw InputError("solver.linear_solver = \"klu\" needs solver.jacobian = \"exact\" or \"central\": IDA's "
+                     "difference quotients fill dense and banded matrices only");
+  IdaRun run(problem, settings, time, sink);
+  run.start();
+  while (run.running()) {
+    if (!run.advance_one_step()) break;
+    if (run.at_event())
+      run.handle_event();
+    else
+      run.after_step();
   }
-  IdaSession ida(n, static_cast<long>(data.pattern.rows.size()));
-
-  Eigen::VectorXd y, yp;
-  dae.consistent_state(span.start, scene.R0_WB, scene.omega0_B, y, yp);
-
-  // A chart that starts too close to its singularity.
-  if (watch_charts && rep.chart_margin(dae.coordinates(y.data())) <= charts.switch_threshold) {
-    if (!charts.switching)
-      throw InputError(fmt::format(
-          "{}: the Euler-angle sequence '{}' is within its singularity margin at t = {} (margin {:.3g} <= "
-          "switch_threshold {}); choose another sequence, 'auto', or enable switching",
-          scene.source, rep.chart_name(), span.start, rep.chart_margin(dae.coordinates(y.data())),
-          charts.switch_threshold));
-    const ChartSwitch s = change_chart(dae, span.start, y, yp);
-    if (!s.to.empty()) {
-      // Rebuilt from the physical start in the new chart: velocities that
-      // went through the old chart (angle rates B^-1 omega) are lost at its
-      // singularity, e.g. a top that starts exactly upright in z-x-z.
-      dae.consistent_state(span.start, scene.R0_WB, scene.omega0_B, y, yp);
-      record_switch(result, sink, s);
-    }
-  }
-
-  Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(ida.y), n) = y;
-  Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(ida.yp), n) = yp;
-  Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(ida.id), n) = dae.differential_id();
-  // Absolute tolerances by group. Coordinates and velocities: the user's
-  // atol. Multipliers never enter the error test of an index-2 scheme, but
-  // their weights still enter IDA's Newton convergence test, where an index-2
-  // multiplier cannot meet a tight tolerance: round-off in the dynamics rows
-  // reaches it amplified by 1/h, so Newton fails, the step shrinks and the
-  // amplification grows. Too loose a weight lets GGL's mu pollute q' instead.
-  // rtol^(3/4) relative to their start size was measured best on the heavy
-  // top (rtol^(1/2): 2x the steps; rtol^(0.9): Newton failures at 1e-12).
-  {
-    Eigen::Map<Eigen::VectorXd> atol(N_VGetArrayPointer(ida.atol), n);
-    const UnknownLayout& lay = dae.layout();
-    const int nm = lay.n_lambda + lay.n_mu;
-    atol.head(lay.nq + lay.nv).setConstant(opt.atol);
-    if (nm > 0) {
-      const double scale = std::max(1.0, y.tail(nm).cwiseAbs().maxCoeff());
-      atol.tail(nm).setConstant(std::max(opt.atol, std::pow(opt.rtol, 0.75)) * scale);
-    }
-  }
-
-  {
-    Eigen::VectorXd F(n);
-    dae.residual(span.start, y.data(), yp.data(), F.data());
-    result.initial_residual = F.cwiseAbs().maxCoeff();
-  }
-
-  check(IDAInit(ida.mem, residual_callback, span.start, ida.y, ida.yp), "IDAInit");
-  check(IDASVtolerances(ida.mem, opt.rtol, ida.atol), "IDASVtolerances");
-  check(IDASetUserData(ida.mem, &data), "IDASetUserData");
-  check(IDASetId(ida.mem, ida.id), "IDASetId");
-  check(IDASetSuppressAlg(ida.mem, dae.scheme().suppress_multiplier_error_test() ? SUNTRUE : SUNFALSE),
-        "IDASetSuppressAlg");
-  check(IDASetLinearSolver(ida.mem, ida.LS, ida.A), "IDASetLinearSolver");
-  if (opt.jacobian != "ida_dq") check(IDASetJacFn(ida.mem, jacobian_callback), "IDASetJacFn");
-  check(IDASetMaxOrd(ida.mem, opt.max_order), "IDASetMaxOrd");
-  check(IDASetStopTime(ida.mem, span.end), "IDASetStopTime");
-  const double h0 =
-      opt.initial_step > 0 ? opt.initial_step : first_step_estimate(dae, span.start, y, yp, opt, span.end - span.start);
-  check(IDASetInitStep(ida.mem, h0), "IDASetInitStep");
-  if (watch_charts) check(IDARootInit(ida.mem, 1, chart_root_callback), "IDARootInit");
-
-  const OutputGrid grid(span);
-  std::size_t next_out = 0;
-  sink.on_output(span.start, y);
-  ++next_out;
-
-  // Output-grid points up to t, interpolated from IDA's last step.
-  Eigen::VectorXd yout(n);
-  auto emit_grid_until = [&](double t) {
-    while (next_out < grid.size() && grid[next_out] <= t) {
-      const double t_out = grid[next_out];
-      if (IDAGetDky(ida.mem, t_out, 0, ida.dky) < 0) break;
-      yout = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(ida.dky), n);
-      sink.on_output(t_out, yout);
-      ++next_out;
-    }
-  };
-
-  IdaCounters before_restart;  // counters of the segments before the last IDAReInit
-  double t = span.start;
-  Eigen::Map<Eigen::VectorXd> y_ida(N_VGetArrayPointer(ida.y), n);
-  Eigen::Map<Eigen::VectorXd> yp_ida(N_VGetArrayPointer(ida.yp), n);
-  long steps_total = 0;
-  const ProjectionPolicy projection = dae.scheme().projection();
-
-  // Hands the state (y, yp) at t back to IDA as a new start.
-  auto restart = [&](double h0) {
-    y_ida = y;
-    yp_ida = yp;
-    add_counters(ida.mem, before_restart);
-    check(IDAReInit(ida.mem, t, ida.y, ida.yp), "IDAReInit");
-    check(IDASetInitStep(ida.mem, h0), "IDASetInitStep");
-    ++before_restart.restarts;
-  };
-
-  // The size of the last step taken (0 before the first).
-  auto last_step = [&] {
-    double h = 0.0;
-    IDAGetLastStep(ida.mem, &h);
-    return h;
-  };
-
-  while (t < span.end) {
-    if (g_interrupt_requested.load()) {
-      result.status = RunStatus::Interrupted;
-      result.message = fmt::format("interrupted by a signal (Ctrl-C or SIGTERM) at t = {:.9g} s, last step size "
-                                   "{:.3g} s, after {} steps; the steps so far are kept",
-                                   t, last_step(), steps_total);
-      break;
-    }
-    if (steps_total >= opt.max_steps) {
-      // IDA's own limit (IDA_TOO_MUCH_WORK) counts steps per call; one step per call, rigidae counts the run.
-      const double h = last_step();
-      result.status = RunStatus::Failed;
-      result.message = fmt::format(
-          "too much work (IDA_TOO_MUCH_WORK): max_steps = {} internal steps taken and t = {:.9g} s of {:.9g} s "
-          "reached, last step size {:.3g} s; at that step size the rest would take about {:.3g} more steps. "
-          "Likely cause: {}",
-          opt.max_steps, t, span.end, h, h > 0 ? (span.end - t) / h : 0.0,
-          h > 0 && h < 1e-9 * (span.end - span.start)
-              ? "the step size has collapsed (a near-singularity, or tolerances too tight for this formulation)"
-              : "the run is longer or faster than max_steps allows (raise --max-steps or solver.max_steps)");
-      break;
-    }
-    const int flag = IDASolve(ida.mem, span.end, &t, ida.y, ida.yp, IDA_ONE_STEP);
-    if (data.error) std::rethrow_exception(data.error);
-    if (flag < 0) {
-      double h = 0.0, tcur = t;
-      IDAGetCurrentStep(ida.mem, &h);
-      IDAGetCurrentTime(ida.mem, &tcur);
-      result.status = RunStatus::Failed;
-      result.message = fmt::format("IDA failed with {} at t = {:.9g} s, step size {:.3g} s: {}",
-                                   flag_name(flag), tcur, h, explain_failure(flag));
-      t = tcur;
-      break;
-    }
-    emit_grid_until(t);
-    if (flag == IDA_ROOT_RETURN) {
-      // The chart nears its singularity: re-express the state and restart.
-      y = y_ida;
-      if (!charts.switching) {
-        const double margin = rep.chart_margin(dae.coordinates(y.data()));
-        result.status = RunStatus::Failed;
-        result.message = fmt::format(
-            "chart singularity: IDA's root finding (IDA_ROOT_RETURN) found the Euler-angle chart '{}' at its "
-            "singularity margin {:.3g} at t = {:.9g} s, last step size {:.3g} s (gimbal lock ahead; the angle "
-            "rates would blow up). Chart switching is off: enable it ([formulation.euler_angles] switching = "
-            "true), or use quaternion or linear coordinates",
-            rep.chart_name(), margin, t, last_step());
-        break;
-      }
-      const ChartSwitch s = change_chart(dae, t, y, yp);
-      if (s.to.empty()) continue;  // already the most regular chart
-      restart(first_step_estimate(dae, t, y, yp, opt, span.end - span.start));
-      record_switch(result, sink, s);
-      continue;
-    }
-    ++steps_total;
-    double h = 0.0;
-    int order = 0;
-    IDAGetLastStep(ida.mem, &h);
-    IDAGetLastOrder(ida.mem, &order);
-    y = y_ida;
-    sink.on_step(t, h, order, y);
-    if (projection.enabled && t < span.end) {
-      const ConstraintDrift before = dae.drift(t, y.data());
-      if (projection.every_step || before.position > projection.threshold ||
-          before.velocity > projection.threshold) {
-        // IDA keeps no memory across the restart: the step size is carried
-        // over, the order and the history are lost.
-        dae.project(t, y, yp);
-        restart(h);
-        ++before_restart.projections;
-        sink.on_projection(t, before);
-      }
-    }
-  }
-
-  result.t_reached = t;
-  result.counters = before_restart;
-  add_counters(ida.mem, result.counters);
-  result.counters.jacobian_residual_evals += dae.jacobian_residual_evaluations();
-  IDAGetLastStep(ida.mem, &result.counters.last_step);
-  IDAGetLastOrder(ida.mem, &result.counters.last_order);
-  return result;
+  return run.finish();
 }
 
 }  // namespace rigidae

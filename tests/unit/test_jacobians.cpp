@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "rigidae/dae/dae_system.hpp"
+#include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"
@@ -125,8 +126,6 @@ class OrientationSink final : public StepSink {
   void on_output(double, const Eigen::VectorXd& y) override {
     q_.push_back(dae_.representation().orientation(dae_.coordinates(y.data())));
   }
-  void on_chart_switch(const ChartSwitch&) override {}
-  void on_projection(double, const ConstraintDrift&) override {}
   const std::vector<Vec4>& orientations() const { return q_; }
 
  private:
@@ -149,7 +148,8 @@ Run run(Scene s, const std::string& jacobian, const std::string& linear_solver =
   const std::unique_ptr<DaeSystem> dae = assemble_dae(s);
   OrientationSink sink(*dae);
   Run r;
-  r.result = integrate(*dae, s, sink);
+  SingleBodyProblem problem(*dae, s.formulation.euler, s.R0_WB, s.omega0_B, s.source);
+  r.result = integrate(problem, s.solver, s.time, sink);
   r.orientations = sink.orientations();
   return r;
 }

@@ -10,6 +10,7 @@
 #include "rigidae/model/rigid_body.hpp"
 #include "rigidae/model/scene.hpp"
 #include "rigidae/schemes/scheme.hpp"
+#include "rigidae/solver/problem.hpp"
 
 namespace rigidae {
 
@@ -40,20 +41,18 @@ class DaeSystem {
   // Allocates nothing.
   void iteration_matrix(double t, double cj, const double* y, const double* yp, double* J) const;
 
-  // The same matrix with dF/dy by central differences (dF/dy' exactly: F is
-  // affine in y'), whose O(d^2) error (~1e-11 relative) keeps Newton
-  // converging on index-2 forms at tight tolerances, where IDA's forward
-  // differences (~1e-8) do not. 3n + 1 residual evaluations.
-  void iteration_matrix_central(double t, double cj, const double* y, const double* yp, double* J) const;
+  // The same matrix's values on sparsity()'s pattern, in its order: the
+  // scheme writes straight into them (no dense n x n in between).
+  void iteration_matrix_sparse(double t, double cj, const double* y, const double* yp, double* values) const;
 
   // Whether entry (row, col) of the iteration matrix can be nonzero in any
   // state: multipliers enter only through Phi_q^T mu (kinematic rows) and
-  // G^T lambda (dynamic rows), and no constraint row depends on them. The
-  // pattern a sparse linear solver factors once.
+  // G^T lambda (dynamic rows), and no constraint row depends on them.
   bool structurally_nonzero(int row, int col) const;
-
-  // Residual evaluations spent in iteration_matrix_central so far.
-  long jacobian_residual_evaluations() const { return jacobian_residual_evals_; }
+  // Those entries in compressed sparse columns, built once: the columns of
+  // q and v whole, then G^T's block (lambda), then Phi_q^T's (mu); the
+  // layout IterationMatrixView's three blocks take in a values array.
+  const SparsityPattern& sparsity() const { return pattern_; }
 
   // A consistent (y, y') at t for a physical state; see ConstraintScheme::consistent_start.
   void consistent_state(double t, const Mat3& R_WB, const Vec3& omega_B, Eigen::VectorXd& y,
@@ -86,8 +85,13 @@ class DaeSystem {
   UnknownLayout layout_;
   mutable StandardTerms terms_;  // scratch for the hot path
   mutable TermDerivatives derivs_;
-  mutable Eigen::VectorXd y_pert_, yp_pert_, F_plus_, F_minus_, F_base_;  // scratch for iteration_matrix_central
-  mutable long jacobian_residual_evals_ = 0;
+  SparsityPattern pattern_;
+  // Where G^T's and Phi_q^T's blocks start in the sparse values.
+  std::int64_t lambda_values_ = 0, mu_values_ = 0;
+
+  // The scheme's assembly into a view, zeroed by the caller.
+  void assemble_iteration_matrix(double t, double cj, const double* y, const double* yp,
+                                 IterationMatrixView& J) const;
 };
 
 // Builds the DAE a scene's formulation names (InputError if unknown).

@@ -4,7 +4,7 @@
 // Files in the output folder:
 //   steps.csv       one row per accepted IDA step
 //   trajectory.csv  one row per output-grid point
-//   events.csv      one row per Euler-angle chart switch
+//   events.csv      one row per Euler-angle chart switch or projection
 // Rows go through a large write buffer (no history is held in memory), and
 // the files are flushed when the run ends, however it ends.
 #include <fmt/format.h>
@@ -49,8 +49,7 @@ class RunRecorder final : public StepSink {
 
   void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
   void on_output(double t, const Eigen::VectorXd& y) override;
-  void on_chart_switch(const ChartSwitch& s) override;
-  void on_projection(double t, const ConstraintDrift& before) override;
+  void on_event(const EventNote& note) override;
   void flush();
 
   const RunExtremes& extremes() const { return extremes_; }

@@ -38,6 +38,19 @@ using VecRef = Eigen::Ref<Eigen::VectorXd>;
 using ConstVecRef = Eigen::Ref<const Eigen::VectorXd>;
 using MatRef = Eigen::Ref<Eigen::MatrixXd>;
 
+// Where a scheme writes its iteration matrix. Multipliers enter only
+// through G^T lambda (the dynamic rows) and Phi_q^T mu (the kinematic rows),
+// and no constraint row depends on them, so the matrix is the columns of the
+// state (q, v), which every row may touch, and two blocks. Views of a dense
+// n x n matrix or of a sparse matrix's values on that pattern
+// (DaeSystem::sparsity), so a sparse solver gets its values without a dense
+// copy.
+struct IterationMatrixView {
+  MatRef state;   // n x (nq + nv): every row, the columns of q and v
+  MatRef lambda;  // nv x n_lambda: the dynamic rows, the columns of lambda
+  MatRef mu;      // nq x n_mu: the kinematic rows, the columns of mu
+};
+
 // What a scheme reads to assemble its exact iteration matrix at (t, y, y').
 struct JacobianInputs {
   const Representation& rep;
@@ -73,7 +86,7 @@ class ConstraintScheme {
 
   // The hot path: the exact iteration matrix dF/dy + cj dF/dy' of residual()
   // (n x n), added into J, which the caller has zeroed.
-  virtual void iteration_matrix(const JacobianInputs& in, MatRef J) const = 0;
+  virtual void iteration_matrix(const JacobianInputs& in, IterationMatrixView& J) const = 0;
 
   // Given q, v in y (already on the constraint manifold), fills the
   // multipliers of y and all of yp so that the residual vanishes to round-off:

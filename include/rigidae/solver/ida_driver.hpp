@@ -1,15 +1,18 @@
 #pragma once
-// Integrates an assembled DAE with SUNDIALS IDA, one internal step at a time.
+// Integrates a DaeProblem with SUNDIALS IDA, one internal step at a time.
 //
-// The only module that includes SUNDIALS headers. The loop reads like the
-// method: advance one step; on a chart event re-express the state and
-// restart; hand every accepted step and every output-grid point to a sink.
+// The only module that includes SUNDIALS headers. It sees the narrow problem
+// (solver/problem.hpp), the solver settings and the time grid: no scene, no
+// physics. The loop reads like the method: start, advance one step, handle
+// an event or what follows an accepted step (the problem's own actions:
+// a chart change, a projection), and finish; every accepted step, every
+// output-grid point and every event of the problem go to a sink.
 #include <atomic>
 #include <string>
 #include <vector>
 
-#include "rigidae/dae/dae_system.hpp"
-#include "rigidae/model/scene.hpp"
+#include "rigidae/core/run_settings.hpp"
+#include "rigidae/solver/problem.hpp"
 
 namespace rigidae {
 
@@ -60,17 +63,17 @@ class StepSink {
   virtual void on_step(double t, double h, int order, const Eigen::VectorXd& y) = 0;
   // At each point of the output grid (IDA's interpolation).
   virtual void on_output(double t, const Eigen::VectorXd& y) = 0;
-  virtual void on_chart_switch(const ChartSwitch& s) = 0;
-  // After a step whose state was projected onto the manifold (drift before it).
-  virtual void on_projection(double t, const ConstraintDrift& before) = 0;
+  // The problem's own events (chart switches, projections), as they happen.
+  virtual void on_event(const EventNote& /*note*/) {}
 };
 
 // Set to true (e.g. from a SIGINT handler) to stop the run between steps.
 extern std::atomic<bool> g_interrupt_requested;
 
-// Runs the scene's time span. Never throws for solver trouble: the result
-// says what happened. Throws InputError for an impossible start.
-RunResult integrate(DaeSystem& dae, const Scene& scene, StepSink& sink);
+// Runs the problem over the time grid. Never throws for solver trouble: the
+// result says what happened. Throws InputError for an impossible start or
+// settings IDA cannot combine.
+RunResult integrate(DaeProblem& problem, const SolverSettings& settings, const TimeGrid& time, StepSink& sink);
 
 // The output grid: start, start + k step, ..., and end exactly, computed
 // point by point (a run of 1e8 output intervals must not hold them all).

@@ -66,6 +66,11 @@ class DaeProblem {
   virtual ~DaeProblem() = default;
 
   virtual int size() const = 0;
+  // Unknowns [0, state_size()) are the state (positions and velocities:
+  // differential in the mathematics, even where differential_id() marks
+  // some 0 to leave them out of the error test); the rest are multipliers.
+  // The driver's first-step estimate measures y'' on the state only.
+  virtual int state_size() const = 0;
 
   // A consistent (y, y') at t0 (the residual vanishes to round-off). May
   // record events (a chart chosen at the start) through take_events().
@@ -86,6 +91,7 @@ class DaeProblem {
   // (the integrator then retries with a smaller step).
   virtual bool residual(double t, const double* y, const double* yp, double* F) = 0;
   // Exact dF/dy + cj dF/dy', dense column-major into J (zeroed by the callee).
+  // (Difference-quotient matrices are the driver's: it differences residual().)
   virtual void iteration_matrix_dense(double t, double cj, const double* y, const double* yp, double* J) = 0;
   // The iteration matrix's structural pattern (fixed for the run).
   virtual const SparsityPattern& sparsity() const = 0;
@@ -95,10 +101,17 @@ class DaeProblem {
   // Root functions: the integrator stops where one crosses zero.
   virtual int event_count() const { return 0; }
   virtual void event_functions(double /*t*/, const double* /*y*/, double* /*g*/) {}
-  // At a root found by the integrator, with (y, y') there.
-  virtual StepAction on_event(double /*t*/, Eigen::VectorXd& /*y*/, Eigen::VectorXd& /*yp*/) { return {}; }
-  // After every accepted step (projection, chart checks). Not called at the end time.
-  virtual StepAction after_step(double /*t*/, Eigen::VectorXd& /*y*/, Eigen::VectorXd& /*yp*/) { return {}; }
+  // At a root found by the integrator, with (y, y') there; h is the size
+  // of the last step taken (for messages).
+  virtual StepAction on_event(double /*t*/, double /*h*/, Eigen::VectorXd& /*y*/, Eigen::VectorXd& /*yp*/) {
+    return {};
+  }
+  // After every accepted step of size h (projection, chart checks). Not
+  // called at the end time. A restart that keeps the step size returns
+  // restart_step = h.
+  virtual StepAction after_step(double /*t*/, double /*h*/, Eigen::VectorXd& /*y*/, Eigen::VectorXd& /*yp*/) {
+    return {};
+  }
 
   // Events that happened since the last call (chart switches, projections), oldest first.
   virtual std::vector<EventNote> take_events() { return {}; }

@@ -1,0 +1,47 @@
+#pragma once
+// How a run is integrated: the solver's settings and the time grid.
+//
+// Plain data shared by the scene (which holds them), the command line and
+// study files (which override them) and the integrator (which reads them and
+// nothing else of the scene). Units are SI.
+#include <string>
+
+namespace rigidae {
+
+// The smallest relative tolerance accepted: below it round-off in double
+// precision exceeds the tolerance and IDA's step size collapses without a
+// failure (heavy top at 1e-15: 545,792 steps in 60 s reached t = 4.5e-8 s).
+inline constexpr double kMinRelativeTolerance = 1e-14;
+// The smallest absolute tolerance accepted: IDA's weighted norms square
+// 1/atol and overflow near 1e-154 (at 1e-160 IDA rejects the input).
+inline constexpr double kMinAbsoluteTolerance = 1e-100;
+
+struct SolverSettings {
+  double rtol = 1e-8;            // in [kMinRelativeTolerance, 1)
+  double atol = 1e-8;            // in [kMinAbsoluteTolerance, 1), absolute tolerance of coordinates and velocities
+  long max_steps = 10'000'000;   // internal IDA steps over the whole run
+  int max_order = 5;             // BDF order limit, 1..5
+  double initial_step = 0.0;     // 0: estimated from the start's second derivative
+  // Iteration matrix: "exact" (derived by hand per representation and
+  // scheme), "central" (rigidae's differences, accurate to ~1e-11) or
+  // "ida_dq" (IDA's own forward difference quotients). Same steps, far fewer
+  // residual evaluations with "exact" (docs/ida_settings.md).
+  std::string jacobian = "exact";
+  // Linear solver for Newton's systems: "dense" (SUNDIALS' dense LU, best for
+  // the <= 30 unknowns here) or "klu" (sparse LU on the iteration
+  // matrix's structural pattern; not with "ida_dq").
+  std::string linear_solver = "dense";
+};
+
+// Limits of the time grid: |start|, |end| (about 32 years; beyond, t + h
+// loses the digits of small steps) and the number of output intervals.
+inline constexpr double kMaxTimeMagnitude = 1e9;  // s
+inline constexpr double kMaxOutputIntervals = 1e8;
+
+struct TimeGrid {
+  double start = 0.0;          // s
+  double end = 1.0;            // s, > start
+  double output_step = 0.01;   // s, > 0; grid = start, start + k step, ..., end (end always included)
+};
+
+}  // namespace rigidae
