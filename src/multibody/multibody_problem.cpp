@@ -68,6 +68,7 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
     offset += 3 + b.nvr;
     bodies_.push_back(std::move(b));
   }
+  n_state_ = offset;
   nv_total_ = 0;
   for (const BodyModel& b : bodies_) {
     velocity_offset_.push_back(nv_total_);

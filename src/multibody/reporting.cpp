@@ -49,7 +49,7 @@ JointReaction MultibodyProblem::joint_reaction(int joint, const double* y) {
   JointReaction out;
   const int j = block_of_joint(blocks_, joint);
   if (j < 0 || blocks_[j].lambda_group < 0) return out;
-  evaluate(0.0, y, 2);
+  if (y != evaluated_y_) evaluate(0.0, y, 2);
   const ConstraintBlock& blk = blocks_[j];
   const double* lambda = y + groups_[blk.lambda_group].offset;
   const JointSpec& js = spec_.joints[joint];
@@ -99,7 +99,7 @@ JointReaction MultibodyProblem::joint_reaction(int joint, const double* y) {
 std::pair<double, double> MultibodyProblem::joint_residuals(int joint, const double* y) {
   const int j = block_of_joint(blocks_, joint);
   if (j < 0) return {0.0, 0.0};
-  evaluate(0.0, y, 2);
+  if (y != evaluated_y_) evaluate(0.0, y, 2);
   evaluate_block(j, y, nullptr);
   const BlockEval& e = block_eval_[j];
   return {e.phi.norm(), e.Gv.norm()};
@@ -123,7 +123,7 @@ double MultibodyProblem::potential_energy(const double* y) {
   for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) V -= bodies_[i].mass * spec_.gravity_W.dot(body_position(i, y));
   for (const BodyLoadSpec& l : spec_.loads)
     if (!l.body_frame) V -= l.force.dot(body_position(l.body, y));
-  evaluate(0.0, y, 2);
+  if (y != evaluated_y_) evaluate(0.0, y, 2);
   VectorEval e;
   for (const SpringSpec& s : spec_.springs) {
     Vec3 p[2] = {s.point_a, s.point_b};
@@ -155,6 +155,60 @@ Vec3 MultibodyProblem::angular_momentum(const double* y) const {
     L += body_position(i, y).cross(b.mass * body_velocity(i, y)) + R * (b.inertia * b.rep->body_angular_velocity(q, v));
   }
   return L;
+}
+
+}  // namespace rigidae::multibody
+
+namespace rigidae::multibody {
+
+std::vector<std::string> MultibodyProblem::output_names() const {
+  std::vector<std::string> n;
+  for (const BodyModel& b : bodies_)
+    for (const char* c : {"qw", "qx", "qy", "qz", "wx", "wy", "wz", "x", "y", "z", "vx", "vy", "vz"})
+      n.push_back(b.name + "." + c);
+  for (const JointSpec& j : spec_.joints)
+    for (const char* c : {"force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z", "phi", "phi_dot"})
+      n.push_back(j.name + "." + c);
+  for (const char* c : {"energy", "p_x", "p_y", "p_z", "L_x", "L_y", "L_z"}) n.push_back(c);
+  return n;
+}
+
+std::vector<std::string> MultibodyProblem::output_units() const {
+  std::vector<std::string> u;
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    for (const char* c : {"1", "1", "1", "1", "rad/s", "rad/s", "rad/s", "m", "m", "m", "m/s", "m/s", "m/s"})
+      u.push_back(c);
+  for (std::size_t j = 0; j < spec_.joints.size(); ++j)
+    for (const char* c : {"N", "N", "N", "N m", "N m", "N m", "m|1", "m/s|1/s"}) u.push_back(c);
+  for (const char* c : {"J", "N s", "N s", "N s", "N m s", "N m s", "N m s"}) u.push_back(c);
+  return u;
+}
+
+void MultibodyProblem::output_row(const double* y, double* out) {
+  // One evaluation of every body serves all joints (O(bodies + joints)).
+  evaluate(0.0, y, 2);
+  evaluated_y_ = y;
+  int k = 0;
+  for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) {
+    const Vec4 q = body_orientation(i, y);
+    const Vec3 w = body_omega_space(i, y), x = body_position(i, y), v = body_velocity(i, y);
+    for (int c = 0; c < 4; ++c) out[k++] = q(c);
+    for (const Vec3* a : {&w, &x, &v})
+      for (int c = 0; c < 3; ++c) out[k++] = (*a)(c);
+  }
+  for (int j = 0; j < static_cast<int>(spec_.joints.size()); ++j) {
+    const JointReaction r = joint_reaction(j, y);
+    const auto [phi, phidot] = joint_residuals(j, y);
+    for (const Vec3* a : {&r.force, &r.torque})
+      for (int c = 0; c < 3; ++c) out[k++] = (*a)(c);
+    out[k++] = phi;
+    out[k++] = phidot;
+  }
+  out[k++] = kinetic_energy(y) + potential_energy(y);
+  const Vec3 p = linear_momentum(y), L = angular_momentum(y);
+  for (const Vec3* a : {&p, &L})
+    for (int c = 0; c < 3; ++c) out[k++] = (*a)(c);
+  evaluated_y_ = nullptr;
 }
 
 }  // namespace rigidae::multibody

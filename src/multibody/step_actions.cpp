@@ -14,7 +14,6 @@ using ConstMap = Eigen::Map<const Eigen::VectorXd>;
 }
 
 int MultibodyProblem::event_count() const {
-  if (!switching_) return 0;
   int n = 0;
   for (const BodyModel& b : bodies_) n += b.rep->has_charts() ? 1 : 0;
   return n;
@@ -59,13 +58,30 @@ bool MultibodyProblem::change_charts(double t, Eigen::VectorXd& y, Eigen::Vector
   return changed;
 }
 
-StepAction MultibodyProblem::on_event(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
+StepAction MultibodyProblem::on_event(double t, double h, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
   StepAction a;
+  if (!switching_) {
+    for (const BodyModel& b : bodies_) {
+      if (!b.rep->has_charts()) continue;
+      const VecQ q = y.segment(groups_[b.q_group].offset + 3, b.nqr);
+      const double margin = b.rep->chart_margin(q);
+      if (margin > switch_threshold_ * 1.001) continue;
+      a.kind = StepAction::Kind::Fail;
+      a.message = fmt::format(
+          "chart singularity: body '{}': the Euler-angle chart '{}' reached its singularity margin {:.3g} at "
+          "t = {:.9g} s, last step size {:.3g} s (gimbal lock ahead). Chart switching is off: enable it, or use "
+          "quaternion or linear coordinates",
+          b.name, b.rep->chart_name(), margin, t, h);
+      return a;
+    }
+    return a;
+  }
+  // A new chart: the driver's first-step estimate, as for one body.
   if (change_charts(t, y, yp, true)) a.kind = StepAction::Kind::Restart;
   return a;
 }
 
-StepAction MultibodyProblem::after_step(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
+StepAction MultibodyProblem::after_step(double t, double h, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
   StepAction a;
   if (change_charts(t, y, yp, false)) a.kind = StepAction::Kind::Restart;
   if (scheme_.projection) {
@@ -78,7 +94,9 @@ StepAction MultibodyProblem::after_step(double t, Eigen::VectorXd& y, Eigen::Vec
       note.drift_position = pos;
       note.drift_velocity = vel;
       events_.push_back(note);
+      // The step size is carried over; the order and the history are lost.
       a.kind = StepAction::Kind::Restart;
+      a.restart_step = h;
       a.projected = true;
     }
   }

@@ -85,6 +85,7 @@ class MultibodyProblem final : public DaeProblem {
   explicit MultibodyProblem(const Scene& scene);
 
   int size() const override { return n_; }
+  int state_size() const override { return n_state_; }
   void initial_state(double t0, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
   void make_consistent(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
   void differential_id(Eigen::Ref<Eigen::VectorXd> id) const override;
@@ -97,8 +98,8 @@ class MultibodyProblem final : public DaeProblem {
   void iteration_matrix_sparse(double t, double cj, const double* y, const double* yp, double* values) override;
   int event_count() const override;
   void event_functions(double t, const double* y, double* g) override;
-  StepAction on_event(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
-  StepAction after_step(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
+  StepAction on_event(double t, double h, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
+  StepAction after_step(double t, double h, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
   std::vector<EventNote> take_events() override;
 
   // --- Structure, for tests and reports.
@@ -122,6 +123,14 @@ class MultibodyProblem final : public DaeProblem {
   double potential_energy(const double* y);
   Vec3 linear_momentum(const double* y) const;
   Vec3 angular_momentum(const double* y) const;  // about the space origin
+  // One output row: per body (BODY.qw .. qz, BODY.wx .. wz in space,
+  // BODY.x .. z, BODY.vx .. vz), per joint (JOINT.force_x .. z, JOINT.torque_x
+  // .. z on body b in space, JOINT.phi = |Phi|, JOINT.phi_dot = |G v|), then
+  // energy, linear momentum p_x .. p_z and angular momentum L_x .. L_z about
+  // the origin. Names and units in the same order.
+  std::vector<std::string> output_names() const;
+  std::vector<std::string> output_units() const;
+  void output_row(const double* y, double* out);
   // Position- and velocity-level drift over all blocks (max norms).
   std::pair<double, double> drift(double t, const double* y);
   // Projects y onto Phi = 0 (Gauss-Newton, least change in the mass metric)
@@ -160,6 +169,7 @@ class MultibodyProblem final : public DaeProblem {
   std::vector<int> velocity_offset_;  // of body i's v in the stacked velocities
   int nv_total_ = 0;
   int n_ = 0;
+  int n_state_ = 0;  // the bodies' q and v come first
   bool has_force_blocks_ = false;
   SparsityPattern pattern_;
   std::unique_ptr<JacobianSink> sink_;
@@ -168,6 +178,7 @@ class MultibodyProblem final : public DaeProblem {
   Eigen::VectorXd y0_, yp0_;
   std::vector<std::string> warnings_;
   std::vector<EventNote> events_;
+  const double* evaluated_y_ = nullptr;  // output_row: the bodies are evaluated at this y
 };
 
 }  // namespace rigidae::multibody
