@@ -140,3 +140,19 @@ TEST_CASE("multibody: residual and iteration matrices allocate nothing") {
         CHECK(allocations == 0);
       }
 }
+
+TEST_CASE("multibody: the sparse pattern of a chain grows linearly with the number of links") {
+  for (Coordinates c : kCoordinates)
+    for (Equations e : kEquations) {
+      CAPTURE(to_string(c) + "/" + to_string(e));
+      std::int64_t nnz[3];
+      const int n[3] = {10, 20, 40};
+      for (int k = 0; k < 3; ++k) {
+        const MultibodyProblem p(test::spherical_chain(n[k], c, e, "ggl"));
+        nnz[k] = p.sparsity().nnz();
+      }
+      // nnz = a N + b exactly: each link adds its own blocks and one joint's.
+      CHECK(nnz[2] - nnz[1] == 2 * (nnz[1] - nnz[0]));
+      MESSAGE(to_string(c) << "/" << to_string(e) << ": nonzeros per link " << (nnz[1] - nnz[0]) / 10);
+    }
+}

@@ -132,3 +132,29 @@ inline Scene two_body_chain(JointType type, Coordinates c, Equations e, const st
 }
 
 }  // namespace rigidae::test
+
+namespace rigidae::test {
+
+// A hanging chain of n identical links joined by spherical joints, the first
+// to the ground at the origin, links along -z (length 0.5 m), slightly swinging.
+inline Scene spherical_chain(int n, Coordinates c, Equations e, const std::string& scheme) {
+  Scene s = multibody_base(c, e, scheme);
+  MultibodySpec& m = *s.multibody;
+  const double L = 0.5;
+  for (int i = 0; i < n; ++i) {
+    BodySpec b;
+    b.name = "link" + std::to_string(i);
+    b.mass = 0.3;
+    b.inertia_com = Vec3(0.007, 0.007, 0.001).asDiagonal();
+    b.x0_W = Vec3(0, 0, -L * (i + 0.5));
+    b.v0_W = Vec3(0.1 * (i + 0.5) * L, 0, 0);
+    b.omega0_B = Vec3(0, 0.1, 0);
+    m.bodies.push_back(b);
+  }
+  for (int i = 0; i < n; ++i)
+    m.joints.push_back(joint_at(m, JointType::Spherical, i == 0 ? kGround : i - 1, i, Vec3(0, 0, -L * i),
+                                Vec3::UnitZ(), Vec3::UnitX(), "joint" + std::to_string(i)));
+  return s;
+}
+
+}  // namespace rigidae::test
