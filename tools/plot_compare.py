@@ -276,7 +276,7 @@ class Run:
         self.data = None
         conf = summary.get("configuration") or {}
         self.solver = conf.get("solver") or {}
-        self.time = conf.get("time_s") or {}
+        self.time = conf.get("time") or conf.get("time_s") or {}  # "time_s" before the table of settings
         self.scene = conf.get("name")
 
     @property

@@ -86,7 +86,7 @@ RunAccuracy measure_accuracy(const Scene& scene, const GridTrajectory& run, cons
     orientation.add(so3::quaternion_distance(run.q_WB[i], ref.q_WB[i]));
     omega.add((run.omega_B[i] - ref.omega_B[i]).norm());
     if (!dae) continue;
-    dae->consistent_state(ref.t[i], so3::quaternion_to_matrix(ref.q_WB[i]), ref.omega_B[i], y, yp);
+    dae->consistent_state(dae->start_chart(), ref.t[i], so3::quaternion_to_matrix(ref.q_WB[i]), ref.omega_B[i], y, yp);
     double e_lambda = 0.0, e_mu = 0.0;
     std::size_t li = 0, mi = 0;
     for (std::size_t k = 0; k < run.multiplier_names.size(); ++k) {

@@ -13,6 +13,8 @@
 #include "rigidae/coords/representation.hpp"
 #include "rigidae/app/accuracy.hpp"
 #include "rigidae/core/error.hpp"
+#include "rigidae/io/checked_file.hpp"
+#include "rigidae/record/columns.hpp"
 #include "rigidae/record/trajectory_csv.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 #include "rigidae/schemes/scheme.hpp"
@@ -102,6 +104,12 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
                                     opt.reference_rtol.value_or(default_reference_rtol(scene.solver.rtol)),
                                     opt.out, say);
   const ReferenceTrajectory& ref = report.reference;
+  auto drop_steps = [&](const std::filesystem::path& dir) {
+    std::error_code ec;
+    if (!opt.keep_steps) std::filesystem::remove(dir / "steps.csv", ec);
+  };
+  drop_steps(opt.out / "reference");
+  drop_steps(opt.out / "reference-check");
 
   const int total = static_cast<int>(selected.size());
   for (int k = 0; k < total; ++k) {
@@ -118,13 +126,14 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
 
     row.accuracy = measure_accuracy(s, read_trajectory_csv(dir / "trajectory.csv"), ref,
                                     row.outcome.run.status == RunStatus::Success);
+    drop_steps(dir);
     row.error_final_rad = row.accuracy.orientation_rad.final;
     row.error_max_rad = row.accuracy.orientation_rad.max;
 
     row.lambda_min = row.lambda_max = row.mu_abs_max = kNaN;
     const RunExtremes& x = row.outcome.extremes;
     for (std::size_t i = 0; i < row.outcome.multiplier_names.size() && x.steps_recorded > 0; ++i) {
-      const bool force = row.outcome.multiplier_names[i].rfind("lambda_", 0) == 0;
+      const bool force = columns::is_force_multiplier(row.outcome.multiplier_names[i]);
       const int j = static_cast<int>(i);
       if (force) {
         row.lambda_min = std::isnan(row.lambda_min) ? x.multiplier_min(j) : std::min(row.lambda_min, x.multiplier_min(j));
@@ -169,19 +178,22 @@ std::string format_compare_table(const CompareReport& r) {
       any_failed = true;
       s += fmt::format("  {}: {}\n", row.combination.name(), row.outcome.run.message);
     }
+  bool any_warned = false;
+  for (const CompareRow& row : r.rows)
+    if (!row.outcome.warnings.empty()) {
+      if (!any_warned) s += "accuracy warnings (drift in tolerances; limits in docs/accuracy_check.md):\n";
+      any_warned = true;
+      s += fmt::format("  {}: {}\n", row.combination.name(), warnings_cell(row.outcome.warnings));
+    }
   s += "units: drift |Phi| 1, |dPhi/dt| 1/s; errors are rotation angles to the reference in rad; wall is the median "
        "of the repeats; res.evals include those spent on difference Jacobians\n";
   return s;
 }
 
 void write_compare_outputs(const CompareReport& r, const std::filesystem::path& out) {
-  auto open = [&](const char* name) {
-    std::ofstream f(out / name);
-    if (!f) throw InputError(fmt::format("{}: cannot open for writing", (out / name).string()));
-    return f;
-  };
+  // Each table is made whole in memory and written atomically (io/checked_file.hpp).
   {
-    std::ofstream f = open("compare.csv");
+    std::ostringstream f;
     f << fmt::format("# units: wall_s s (median of repeats); drift_position 1; drift_velocity 1/s; error_* rad to the "
                      "reference {}{} (estimated accuracy {:.3e} rad); lambda J; mu 1/s\n",
                      r.reference.combination,
@@ -189,14 +201,14 @@ void write_compare_outputs(const CompareReport& r, const std::filesystem::path& 
     f << "combination,coordinates,equations,scheme,status,steps,residual_evals,jacobian_residual_evals,jacobian_evals,"
          "nonlinear_iters,error_test_fails,nonlinear_conv_fails,restarts,projections,chart_switches,wall_s,repeats,"
          "max_drift_position,max_drift_velocity,max_abs_energy_rel_error,error_final_rad,error_max_rad,lambda_min,"
-         "lambda_max,mu_abs_max,rtol,atol,scene,run_dir,message\n";
+         "lambda_max,mu_abs_max,rtol,atol,scene,run_dir,message,warnings\n";
     for (const CompareRow& row : r.rows) {
       const IdaCounters& c = row.outcome.run.counters;
       const RunExtremes& x = row.outcome.extremes;
       std::string msg = row.outcome.run.message;
       std::replace(msg.begin(), msg.end(), '"', '\'');
       f << fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.6g},{},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},"
-                       "{:.6e},{:.6e},{:g},{:g},{},{},\"{}\"\n",
+                       "{:.6e},{:.6e},{:g},{:g},{},{},\"{}\",\"{}\"\n",
                        row.combination.name(), to_string(row.combination.coordinates),
                        to_string(row.combination.equations), row.combination.scheme, to_string(row.outcome.run.status),
                        c.steps, c.residual_evals, c.jacobian_residual_evals, c.jacobian_evals, c.nonlinear_iters,
@@ -204,25 +216,27 @@ void write_compare_outputs(const CompareReport& r, const std::filesystem::path& 
                        row.outcome.run.switch_count, row.wall_median, row.wall_seconds.size(), x.max_drift_position,
                        x.max_drift_velocity, x.max_abs_energy_error, row.error_final_rad, row.error_max_rad,
                        row.lambda_min, row.lambda_max, row.mu_abs_max, r.rtol, r.atol, r.scene_name,
-                       row.combination.folder(), msg);
+                       row.combination.folder(), msg, warnings_cell(row.outcome.warnings));
     }
+    write_file_atomically(out / "compare.csv", f.str());
   }
-  const std::string table = format_compare_table(r);
-  open("compare.txt") << table;
+  write_file_atomically(out / "compare.txt", format_compare_table(r));
   {
-    std::ofstream f = open("compare.md");
+    std::ostringstream f;
     f << "| combination | status | steps | residual evals | wall s | max \\|Phi\\| | max \\|dPhi/dt\\| | max \\|dE/E\\| "
-         "| error at end, rad | max error, rad | restarts |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+         "| error at end, rad | max error, rad | restarts | warnings |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const CompareRow& row : r.rows) {
       const IdaCounters& c = row.outcome.run.counters;
       const RunExtremes& x = row.outcome.extremes;
       const bool constrained = row.combination.coordinates != Coordinates::EulerAngles;
-      f << fmt::format("| {} | {} | {} | {} | {:.3f} | {} | {} | {} | {} | {} | {} |\n", row.combination.name(),
+      f << fmt::format("| {} | {} | {} | {} | {:.3f} | {} | {} | {} | {} | {} | {} | {} |\n", row.combination.name(),
                        to_string(row.outcome.run.status), c.steps, c.residual_evals + c.jacobian_residual_evals,
                        row.wall_median, constrained ? sci(x.max_drift_position) : "–",
                        constrained ? sci(x.max_drift_velocity) : "–", sci(x.max_abs_energy_error),
-                       sci(row.error_final_rad), sci(row.error_max_rad), c.restarts);
+                       sci(row.error_final_rad), sci(row.error_max_rad), c.restarts,
+                       warnings_cell(row.outcome.warnings));
     }
+    write_file_atomically(out / "compare.md", f.str());
   }
 }
 

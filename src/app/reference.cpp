@@ -1,3 +1,4 @@
+#include "rigidae/io/checked_file.hpp"
 #include "rigidae/app/reference.hpp"
 
 #include <fmt/format.h>
@@ -125,7 +126,7 @@ ReferenceTrajectory make_reference(const Scene& scene, const std::string& kind, 
                    {"check_combination", ref.check_combination},
                    {"rtol", ref.rtol},
                    {"accuracy_rad", ref.accuracy_rad}};
-  std::ofstream(dir / kSummary) << j.dump(2) << "\n";
+  write_file_atomically(dir / kSummary, j.dump(2) + "\n");
   return ref;
 }
 

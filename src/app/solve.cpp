@@ -3,16 +3,23 @@
 #include "solve_multibody.hpp"
 
 #include <fmt/format.h>
-#include <sundials/sundials_config.h>
 
 #include <chrono>
+#include <cmath>
 #include <fstream>
+#include <algorithm>
+#include <variant>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/dae/dae_system.hpp"
 #include "rigidae/dae/single_body_problem.hpp"
+#include "rigidae/io/checked_file.hpp"
+#include "rigidae/record/columns.hpp"
+#include "rigidae/settings/settings.hpp"
 #include "rigidae/so3/rotation.hpp"
+#include "rigidae/solver/version.hpp"
 
 namespace rigidae {
 
@@ -26,11 +33,21 @@ nlohmann::json mat_json(const Mat3& M) {
   return {vec_json(M.row(0).transpose()), vec_json(M.row(1).transpose()), vec_json(M.row(2).transpose())};
 }
 
-nlohmann::json configuration_json(const Scene& s) {
-  nlohmann::json euler = {{"sequence", s.formulation.euler.sequence ? s.formulation.euler.sequence->name() : "auto"},
-                          {"switching", s.formulation.euler.switching},
-                          {"switch_threshold", s.formulation.euler.switch_threshold}};
-  return {
+// A parameter as the scheme used it; a scheme that does not use it leaves
+// the scene's setting (null when unset: the default is resolved by the
+// scheme that uses it).
+nlohmann::json used_or_set(const std::vector<SchemeParameter>& used, const std::string& name,
+                           const std::optional<double>& set) {
+  for (const auto& p : used)
+    if (p.name == name) return p.value;
+  return set ? nlohmann::json(*set) : nlohmann::json(nullptr);
+}
+
+// The scene's body and initial state, then every run setting of the table
+// (rigidae/settings) at its dotted key, and the scheme's parameters as the
+// scheme used them.
+nlohmann::json configuration_json(const Scene& s, const std::vector<SchemeParameter>& used) {
+  nlohmann::json j = {
       {"scene", s.source},
       {"name", s.name},
       {"body",
@@ -40,25 +57,58 @@ nlohmann::json configuration_json(const Scene& s) {
       {"support", s.support == Support::FixedPoint ? "fixed_point" : "free"},
       {"gravity_m_s2", vec_json(s.gravity_W)},
       {"initial", {{"R_WB", mat_json(s.R0_WB)}, {"omega_B_rad_s", vec_json(s.omega0_B)}}},
-      {"time_s", {{"start", s.time.start}, {"end", s.time.end}, {"output_step", s.time.output_step}}},
-      {"formulation",
-       {{"coordinates", to_string(s.formulation.coordinates)},
-        {"equations", to_string(s.formulation.equations)},
-        {"scheme", s.formulation.scheme},
-        {"euler_angles", euler},
-        {"baumgarte", {{"a", baumgarte_gains(s).first}, {"b", baumgarte_gains(s).second}}},
-        {"projection",
-         {{"when", s.formulation.projection.every_step ? "every_step" : "threshold"},
-          {"threshold", projection_threshold(s)}}}}},
-      {"solver",
-       {{"rtol", s.solver.rtol},
-        {"atol", s.solver.atol},
-        {"max_steps", s.solver.max_steps},
-        {"max_order", s.solver.max_order},
-        {"initial_step", s.solver.initial_step},
-        {"linear_solver", s.solver.linear_solver},
-        {"jacobian", s.solver.jacobian}}},
   };
+  for (const settings::Setting& setting : settings::all()) {
+    if (setting.scene_key.empty() || !setting.get) continue;
+    nlohmann::json value;
+    std::visit([&](const auto& v) { value = v; }, setting.get(s));
+    std::string pointer = "/" + std::string(setting.scene_key);
+    std::replace(pointer.begin(), pointer.end(), '.', '/');
+    j[nlohmann::json::json_pointer(pointer)] = value;
+  }
+  j["formulation"]["baumgarte"]["a"] = used_or_set(used, "a", s.formulation.baumgarte.a);
+  j["formulation"]["baumgarte"]["b"] = used_or_set(used, "b", s.formulation.baumgarte.b);
+  j["formulation"]["projection"]["threshold"] = used_or_set(used, "threshold", s.formulation.projection.threshold);
+  return j;
+}
+
+// The last observation as the columns of trajectory.csv (record/columns.hpp).
+nlohmann::json final_row_json(const Observation& o, const std::vector<std::string>& multiplier_names) {
+  nlohmann::json j = nlohmann::json::object();
+  const columns::Sample sample{o.t, 0.0, 0, &o, {}};
+  for (const columns::Column& c : columns::all()) {
+    if (!(c.files & columns::kTrajectory)) continue;
+    if (c.kind == columns::Kind::Real) j[std::string(c.name)] = c.value(sample);
+    if (c.kind == columns::Kind::Multipliers)
+      for (std::size_t i = 0; i < multiplier_names.size(); ++i) j[multiplier_names[i]] = o.multipliers(static_cast<int>(i));
+  }
+  return j;
+}
+
+// JSON has no NaN: a measure not checked is null.
+nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+
+nlohmann::json accuracy_check_json(const SolveOutcome& o) {
+  const InvariantDrifts& d = o.drifts;
+  return {{"tolerance", d.tolerance},
+          {"energy", number_or_null(d.energy)},
+          {"angular_momentum", number_or_null(d.angular_momentum)},
+          {"vertical_angular_momentum", number_or_null(d.vertical_angular_momentum)},
+          {"constraint_position", number_or_null(d.constraint_position)},
+          {"constraint_velocity", number_or_null(d.constraint_velocity)},
+          {"definitions", "maxima over the steps; see include/rigidae/app/accuracy_check.hpp"}};
+}
+
+nlohmann::json warnings_json(const std::vector<AccuracyWarning>& warnings) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const AccuracyWarning& w : warnings)
+    a.push_back({{"quantity", w.quantity},
+                 {"drift", w.drift},
+                 {"limit", w.limit},
+                 {"factor", w.factor},
+                 {"tolerance", w.tolerance},
+                 {"message", w.message}});
+  return a;
 }
 
 void write_summary(const std::filesystem::path& path, const Scene& scene, const SolveOutcome& o) {
@@ -76,11 +126,11 @@ void write_summary(const std::filesystem::path& path, const Scene& scene, const 
 
   nlohmann::json j = {
       {"units", "SI: s, rad, rad/s, J, kg m^2/s; quaternions scalar first, R_WB body to space"},
-      {"configuration", configuration_json(scene)},
+      {"configuration", configuration_json(scene, o.scheme_parameters)},
       {"representation", o.representation},
       {"scheme", o.scheme},
       {"note", o.note},
-      {"versions", {{"rigidae", RIGIDAE_VERSION}, {"sundials", SUNDIALS_VERSION},
+      {"versions", {{"rigidae", RIGIDAE_VERSION}, {"sundials", sundials_version()},
                     {"eigen", fmt::format("{}.{}.{}", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION)}}},
       {"status", to_string(o.run.status)},
       {"message", o.run.message},
@@ -109,6 +159,8 @@ void write_summary(const std::filesystem::path& path, const Scene& scene, const 
         {"abs_energy_rel_error", o.extremes.max_abs_energy_error},
         {"abs_vertical_momentum_rel_error", o.extremes.max_abs_vertical_momentum_error}}},
       {"multipliers", multipliers},
+      {"accuracy_check", accuracy_check_json(o)},
+      {"warnings", warnings_json(o.warnings)},
       {"final",
        {{"t", f.t},
         {"q_WB", vec_json(f.q_WB)},
@@ -119,11 +171,11 @@ void write_summary(const std::filesystem::path& path, const Scene& scene, const 
         {"energy_rel_error", f.energy_error},
         {"vertical_momentum", f.vertical_momentum},
         {"vertical_momentum_rel_error", f.vertical_momentum_error}}},
+      {"final_row", final_row_json(f, o.multiplier_names)},
+      {"columns_units", columns::units_line().substr(2)},
   };
-  std::ofstream out(path);
-  if (!out) throw InputError(fmt::format("{}: cannot open for writing", path.string()));
   // A path from the command line need not be UTF-8; JSON must be: invalid bytes become U+FFFD.
-  out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
+  write_file_atomically(path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + '\n');
 }
 
 }  // namespace
@@ -147,20 +199,40 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
   o.scheme = dae->scheme().name();
   o.note = dae->scheme().note(dae->representation());
   o.multiplier_names = dae->multiplier_names();
+  o.scheme_parameters = dae->scheme().parameters();
 
-  RunRecorder recorder(*dae, scene, out_dir);
+  SingleBodyProblem problem(*dae, scene.formulation.euler, scene.R0_WB, scene.omega0_B, scene.source);
+  RunRecorder recorder(problem, scene, out_dir);
+  InvariantMonitor monitor(*dae, scene, recorder);
   const auto t0 = std::chrono::steady_clock::now();
+  std::string lost;  // the first output file that could not be written completely
   try {
-    SingleBodyProblem problem(*dae, scene.formulation.euler, scene.R0_WB, scene.omega0_B, scene.source);
-    o.run = integrate(problem, scene.solver, scene.time, recorder);
+    o.run = integrate(problem, scene.solver, scene.time, monitor);
   } catch (const SolverError& e) {
     o.run.status = RunStatus::Failed;
     o.run.message = e.what();
+  } catch (const OutputError& e) {
+    lost = e.what();
   }
   o.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  recorder.flush();
+  try {
+    recorder.close();
+  } catch (const OutputError& e) {
+    if (lost.empty()) lost = e.what();
+  }
   o.extremes = recorder.extremes();
+  o.drifts = monitor.drifts();
+  o.warnings = monitor.warnings();
+  if (!lost.empty()) {
+    // Results that did not reach the disk are no success, however the solver fared.
+    o.run.status = RunStatus::Failed;
+    o.run.t_reached = o.extremes.last.t;
+    o.run.message = fmt::format("output lost: {}; the run stopped there (last recorded t = {:.9g} s) and what "
+                                "was written is kept",
+                                lost, o.extremes.last.t);
+  }
   write_summary(out_dir / "summary.json", scene, o);
+  if (!lost.empty()) throw OutputError(o.run.message);
   return o;
 }
 

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <fstream>
 
+#include "rigidae/io/checked_file.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
 #include "rigidae/record/multibody_recorder.hpp"
@@ -77,9 +78,7 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
         {"abs_energy_rel_error", o.extremes.max_abs_energy_error}}},
       {"final", {{"energy", recorder.last_energy()}, {"initial_energy", recorder.initial_energy()}}},
   };
-  std::ofstream out(out_dir / "summary.json");
-  if (!out) throw InputError(fmt::format("{}: cannot open for writing", (out_dir / "summary.json").string()));
-  out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
+  write_file_atomically(out_dir / "summary.json", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   return o;
 }
 

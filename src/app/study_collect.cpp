@@ -5,10 +5,12 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "rigidae/app/study.hpp"
 #include "rigidae/core/error.hpp"
+#include "rigidae/io/checked_file.hpp"
 
 namespace rigidae {
 
@@ -92,9 +94,11 @@ const Column kColumns[] = {
     {"reference", "/reference", Kind::Quoted},
     {"run_dir", "/id", Kind::Text},
     {"message", "/message", Kind::Quoted},
+    {"warnings", "/warning_summary", Kind::Quoted},  // accuracy-check warnings (app/accuracy_check.hpp)
 };
 
 std::string cell(const json& run, const Column& c) {
+  if (!run.contains(json::json_pointer(c.pointer))) return "";  // a record from before the column existed
   const json& v = run.at(json::json_pointer(c.pointer));
   switch (c.kind) {
     case Kind::Text: return v.get<std::string>();
@@ -164,8 +168,7 @@ std::string collect_study(const StudySpec& spec, const fs::path& out, std::vecto
     runs.push_back(read_run(run_folder(out, spec, run) / "run.json"));
   }
   {
-    std::ofstream f(out / "results.csv");
-    if (!f) throw InputError(fmt::format("{}: cannot open for writing", (out / "results.csv").string()));
+    std::ostringstream f;
     f << "# units: wall s (min and median of the timed repeats after the warm-ups); orientation errors rad (angle "
          "to the reference); angular velocity errors rad/s (|delta omega_B|); lambda errors J and mu errors 1/s (max "
          "over the multipliers); _l2 is the root mean square over the output grid; scd/mescd as the IVP Test Set "
@@ -176,13 +179,14 @@ std::string collect_study(const StudySpec& spec, const fs::path& out, std::vecto
       for (std::size_t k = 0; k < std::size(kColumns); ++k) f << (k ? "," : "") << cell(r, kColumns[k]);
       f << "\n";
     }
+    write_file_atomically(out / "results.csv", f.str());
   }
   const std::string header =
       fmt::format("study {}: best combination per final orientation error target ({} of {} runs complete)\n",
                   spec.name, runs.size(), runs.size() + (missing ? missing->size() : 0));
   const std::string text = header + best_tables(spec, runs, false);
-  std::ofstream(out / "best.txt") << text;
-  std::ofstream(out / "best.md") << "## " << header << best_tables(spec, runs, true);
+  write_file_atomically(out / "best.txt", text);
+  write_file_atomically(out / "best.md", "## " + header + best_tables(spec, runs, true));
   return text;
 }
 

@@ -11,6 +11,7 @@
 #include "rigidae/app/study.hpp"
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"
+#include "rigidae/settings/settings.hpp"
 
 namespace rigidae {
 
@@ -40,15 +41,48 @@ std::vector<std::string> strings(const TomlReader& r, const toml::node& n, std::
   return v;
 }
 
-// Numbers in [lowest, 1), distinct.
-std::vector<double> tolerances(const TomlReader& r, const toml::node& n, std::string_view name, double lowest) {
+// A value of the table of settings (rigidae/settings) read from a study
+// file: checked by settings::problem, so a study refuses what a scene file
+// and the command line refuse, in the same words.
+settings::Value setting_value(const TomlReader& r, const toml::node& n, const settings::Setting& s,
+                              std::string_view name) {
+  settings::Value v;
+  switch (s.kind) {
+    case settings::Kind::Real: v = r.number(n, name); break;
+    case settings::Kind::Integer: v = r.integer(n, name); break;
+    case settings::Kind::Boolean: v = r.boolean(n, name); break;
+    case settings::Kind::Choice:
+    case settings::Kind::Text: v = r.string(n, name); break;
+  }
+  const std::string why = settings::problem(s, v);
+  if (!why.empty()) r.fail(n, fmt::format("'{}' = {}", name, why));
+  return v;
+}
+
+// Values of setting `s` (solver.rtol, solver.atol), distinct.
+std::vector<double> tolerances(const TomlReader& r, const toml::node& n, std::string_view name,
+                               const settings::Setting& s) {
   std::vector<double> v;
-  const toml::array& a = array_of(r, n, name, fmt::format("numbers in [{:g}, 1)", lowest));
+  const toml::array& a = array_of(r, n, name, fmt::format("numbers, {}", settings::domain_text(s)));
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const toml::node& e = *a.get(i);
+    const std::string item = fmt::format("{}[{}]", name, i);
+    const double x = std::get<double>(setting_value(r, e, s, item));
+    if (std::find(v.begin(), v.end(), x) != v.end()) r.fail(e, fmt::format("'{}' = {:g} is listed twice", item, x));
+    v.push_back(x);
+  }
+  return v;
+}
+
+// Error targets in rad: numbers in (0, 1), distinct.
+std::vector<double> targets(const TomlReader& r, const toml::node& n, std::string_view name) {
+  std::vector<double> v;
+  const toml::array& a = array_of(r, n, name, "numbers in (0, 1)");
   for (std::size_t i = 0; i < a.size(); ++i) {
     const toml::node& e = *a.get(i);
     const std::string item = fmt::format("{}[{}]", name, i);
     const double x = r.number(e, item);
-    if (!(x >= lowest && x < 1.0)) r.fail(e, fmt::format("'{}' = {} must be in [{:g}, 1)", item, x, lowest));
+    if (!(x > 0.0 && x < 1.0)) r.fail(e, fmt::format("'{}' = {} must lie in (0, 1) (an angle in rad)", item, x));
     if (std::find(v.begin(), v.end(), x) != v.end()) r.fail(e, fmt::format("'{}' = {:g} is listed twice", item, x));
     v.push_back(x);
   }
@@ -114,8 +148,7 @@ StudySpec read_study(const TomlReader& r, const toml::table& root) {
   }
 
   if (const toml::node* n = root.get("reference")) {
-    static constexpr std::array<std::string_view, 3> kKinds{"auto", "exact", "tight"};
-    spec.reference = std::string(kKinds[r.choice(*n, "reference", kKinds)]);
+    spec.reference = std::get<std::string>(setting_value(r, *n, settings::study_setting("reference"), "reference"));
     for (const Scene& scene : spec.scenes) {
       std::string why;
       if (spec.reference == "exact" && !exact::find_exact_solution(scene, &why))
@@ -124,7 +157,7 @@ StudySpec read_study(const TomlReader& r, const toml::table& root) {
                                scene.name, why));
     }
   }
-  if (const toml::node* n = root.get("targets")) spec.targets = tolerances(r, *n, "targets", 1e-300);
+  if (const toml::node* n = root.get("targets")) spec.targets = targets(r, *n, "targets");
 
   const toml::table& grid = r.required_table(root, "", "grid");
   r.check_keys(grid, "grid", kGridKeys, kSchema);
@@ -137,17 +170,19 @@ StudySpec read_study(const TomlReader& r, const toml::table& root) {
     spec.skip = strings(r, *n, "grid.skip");
     check_patterns(r, *n, spec.skip, "grid.skip");
   }
-  spec.rtols = tolerances(r, r.required(grid, "grid", "rtol", "relative tolerances in (0, 1)"), "grid.rtol",
-                          kMinRelativeTolerance);
+  const settings::Setting& rtol = settings::scene_setting("solver.rtol");
+  spec.rtols = tolerances(r, r.required(grid, "grid", "rtol", "relative tolerances, " + settings::domain_text(rtol)),
+                          "grid.rtol", rtol);
   if (plan_study(spec).empty())
     r.fail(grid.source(), "[grid] combinations and skip leave no combination to run (see rigidae compare --help "
                           "for the patterns)");
   if (const toml::node* n = root.get("reference_rtol")) {
-    const double x = r.number(*n, "reference_rtol");
+    const double x = std::get<double>(setting_value(r, *n, settings::study_setting("reference_rtol"), "reference_rtol"));
     const double smallest = *std::min_element(spec.rtols.begin(), spec.rtols.end());
-    if (!(x >= kMinRelativeTolerance && x <= smallest))
-      r.fail(*n, fmt::format("'reference_rtol' = {} must be in [{:g}, {:g}] (no looser than the tightest run)", x,
-                             kMinRelativeTolerance, smallest));
+    if (x > smallest)
+      r.fail(*n, fmt::format("'reference_rtol' = {} must be <= {:g}, the smallest grid.rtol (no looser than the "
+                             "tightest run)",
+                             x, smallest));
     spec.reference_rtol = x;
   }
   if (const toml::node* n = grid.get("atol")) {
@@ -156,9 +191,7 @@ StudySpec read_study(const TomlReader& r, const toml::table& root) {
         r.fail(*n, "'grid.atol' must be \"rtol\" (tied: atol = atol_ratio * rtol) or a number > 0");
     } else {
       spec.atol_tied = false;
-      spec.atol = r.number(*n, "grid.atol");
-      if (!(spec.atol >= kMinAbsoluteTolerance && spec.atol < 1.0))
-        r.fail(*n, fmt::format("'grid.atol' = {} must be in [{:g}, 1)", spec.atol, kMinAbsoluteTolerance));
+      spec.atol = std::get<double>(setting_value(r, *n, settings::scene_setting("solver.atol"), "grid.atol"));
     }
   }
   if (const toml::node* n = grid.get("atol_ratio")) {
@@ -169,15 +202,13 @@ StudySpec read_study(const TomlReader& r, const toml::table& root) {
 
   if (const toml::table* t = r.optional_table(root, "", "timing")) {
     r.check_keys(*t, "timing", kTimingKeys, kSchema);
-    auto count = [&](const char* key, int lo, int& into) {
-      const toml::node* n = t->get(key);
-      if (!n) return;
-      const long long v = r.integer(*n, fmt::format("timing.{}", key));
-      if (v < lo || v > 1000) r.fail(*n, fmt::format("'timing.{}' = {} must be an integer from {} to 1000", key, v, lo));
-      into = static_cast<int>(v);
+    auto count = [&](const char* key, int& into) {
+      const std::string name = fmt::format("timing.{}", key);
+      if (const toml::node* n = t->get(key))
+        into = static_cast<int>(std::get<long long>(setting_value(r, *n, settings::study_setting(name), name)));
     };
-    count("warmups", 0, spec.warmups);
-    count("repeats", 1, spec.repeats);
+    count("warmups", spec.warmups);
+    count("repeats", spec.repeats);
   }
   return spec;
 }

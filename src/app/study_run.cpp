@@ -14,6 +14,7 @@
 #include "rigidae/app/solve.hpp"
 #include "rigidae/app/study.hpp"
 #include "rigidae/core/error.hpp"
+#include "rigidae/io/checked_file.hpp"
 #include "rigidae/record/trajectory_csv.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 
@@ -42,7 +43,7 @@ void publish(const fs::path& tmp, const fs::path& final_path) {
   std::error_code ec;
   fs::rename(tmp, final_path, ec);
   if (ec) {
-    if (!fs::exists(final_path)) throw InputError(fmt::format("cannot move {} to {}: {}", tmp.string(), final_path.string(), ec.message()));
+    if (!fs::exists(final_path)) throw OutputError(fmt::format("cannot move {} to {}: {}", tmp.string(), final_path.string(), ec.message()));
     fs::remove_all(tmp, ec);
   }
 }
@@ -156,6 +157,13 @@ json run_record(const StudySpec& spec, const StudyRun& run, const SolveOutcome& 
         {"scd", number(acc.scd)},
         {"mescd", number(acc.mescd)},
         {"points_compared", acc.points_compared}}},
+      {"warning_summary", warnings_cell(o.warnings)},
+      {"warnings", [&] {
+         json a = json::array();
+         for (const AccuracyWarning& w : o.warnings)
+           a.push_back({{"quantity", w.quantity}, {"drift", w.drift}, {"limit", w.limit}, {"message", w.message}});
+         return a;
+       }()},
       {"reference", ref.describe()},
       {"reference_accuracy_rad", number(ref.accuracy_rad)},
   };
@@ -198,7 +206,9 @@ bool run_study(const StudySpec& spec, const std::vector<StudyRun>& runs, const S
     }
     const RunAccuracy acc = measure_accuracy(scene, read_trajectory_csv(tmp / "trajectory.csv"), *ref,
                                              outcome.run.status == RunStatus::Success);
-    std::ofstream(tmp / "run.json") << run_record(spec, run, outcome, wall, acc, *ref).dump(2) << "\n";
+    if (!opt.keep_steps) fs::remove(tmp / "steps.csv", ec);  // summaries and grids always stay
+    // run.json marks the run complete: written last, whole or not at all.
+    write_file_atomically(tmp / "run.json", run_record(spec, run, outcome, wall, acc, *ref).dump(2) + "\n");
     replace_incomplete(final_path, "run.json");
     publish(tmp, final_path);
     ++p.done;

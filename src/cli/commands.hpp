@@ -10,9 +10,4 @@ int solve_command(const std::vector<std::string>& args);
 int compare_command(const std::vector<std::string>& args);
 int study_command(const std::vector<std::string>& args);
 
-// Help texts, printed by --help.
-extern const char* kSolveHelp;
-extern const char* kCompareHelp;
-extern const char* kStudyHelp;
-
 }  // namespace rigidae::cli

@@ -10,31 +10,10 @@
 #include "rigidae/app/compare.hpp"
 #include "rigidae/core/error.hpp"
 #include "plot_script.hpp"
-#include "scene_options.hpp"
+#include "rigidae/app/command_line.hpp"
+#include "output_folder.hpp"
 
 namespace rigidae::cli {
-
-const char* kCompareHelp = R"(Options of 'compare' (runs every applicable coordinates x equations x scheme):
-  --repeat N              wall time is the median of N runs (default 3)
-  --only LIST             comma-separated patterns of combinations to run:
-                          'quaternion/*/ggl' globs the whole name, a bare word
-                          ('ggl', 'linear', 'index*') matches any one part
-                          ('euler' matches both Euler angles and the Euler form)
-  --skip LIST             patterns of combinations to leave out
-  --reference auto|exact|tight
-                          the reference: 'exact' the closed-form solution (free
-                          body, symmetric Lagrange top), 'tight' a run of
-                          quaternion/euler/ggl at --reference-rtol checked against
-                          Euler angles; 'auto' (default) exact when there is one
-  --reference-rtol X      tolerance of the tight reference runs (default
-                          rtol/100, clamped to [1e-13, 1e-12])
-  --out DIR               output folder (default: out/NAME-compare)
-  --plot                  draw figures with tools/plot_compare.py into DIR/figures
-  --quiet                 no progress lines, no table on stdout
-  and every scene override of 'solve' except --coordinates/--equations/--scheme.
-Exit code 0 when every run finished, failed combinations included (they are
-rows of the table); 1 when the reference could not be computed.
-)";
 
 namespace {
 
@@ -50,35 +29,24 @@ std::vector<std::string> split_list(const std::string& text) {
 }  // namespace
 
 int compare_command(const std::vector<std::string>& args) {
+  const CommandInfo& info = command_info("compare");
+  const CommandLine cl = parse_arguments(args, info);
+  if (cl.help) {
+    fmt::print("{}", command_help(info));
+    return 0;
+  }
+  const Scene scene = scene_from(cl, info);
   CompareOptions opt;
-  bool quiet = false, plot = false;
-  const Scene scene = parse_command_line(args, "compare", [&](const std::string& a, const NextValue& value) {
-    if (a == "--quiet") quiet = true;
-    else if (a == "--plot") plot = true;
-    else if (a == "--out") opt.out = value();
-    else if (a == "--repeat") {
-      const long n = parse_count(a, value());
-      if (n > 1000) throw InputError("option --repeat: at most 1000 repeats");
-      opt.repeat = static_cast<int>(n);
-    } else if (a == "--only") opt.only = split_list(value());
-    else if (a == "--skip") opt.skip = split_list(value());
-    else if (a == "--reference") opt.reference = value();  // checked by compare_scene
-    else if (a == "--reference-rtol") {
-      const double x = parse_number(a, value());
-      if (!(x > 0 && x < 1)) throw InputError(fmt::format("option --reference-rtol: {} is outside (0, 1)", x));
-      opt.reference_rtol = x;
-    } else if (a == "--coordinates" || a == "--equations" || a == "--scheme")
-      throw InputError(fmt::format("option {} does not apply to compare, which runs every combination; select "
-                                   "with --only/--skip (e.g. --only 'quaternion/*/ggl')",
-                                   a));
-    else return false;
-    return true;
-  });
+  const bool quiet = cl.has("--quiet"), plot = cl.has("--plot");
+  opt.out = cl.text("--out");
+  opt.keep_steps = plot || cl.has("--keep-steps");  // the figures read the step files
+  if (const auto* n = cl.last("--repeat")) opt.repeat = static_cast<int>(std::get<long long>(*n));
+  if (cl.has("--only")) opt.only = split_list(cl.text("--only"));
+  if (cl.has("--skip")) opt.skip = split_list(cl.text("--skip"));
+  if (const auto* x = cl.last("--reference-rtol")) opt.reference_rtol = std::get<double>(*x);
   if (opt.out.empty()) opt.out = std::filesystem::path("out") / fmt::format("{}-compare", scene.name.empty() ? "scene" : scene.name);
 
-  std::error_code ec;
-  std::filesystem::create_directories(opt.out, ec);
-  if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", opt.out.string(), ec.message()));
+  create_output_folder(opt.out, /*disposable=*/false);
 
   const CompareReport report = compare_scene(scene, opt, [&](const std::string& line) {
     if (!quiet) fmt::print(stderr, "{}\n", line);

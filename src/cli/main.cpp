@@ -8,9 +8,12 @@
 
 #include "commands.hpp"
 #include "rigidae/core/error.hpp"
+#include "rigidae/io/checked_file.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/solver/ida_driver.hpp"
-#include "scene_options.hpp"
+#include "rigidae/app/command_line.hpp"
+#include "rigidae/core/text.hpp"
+#include "output_folder.hpp"
 
 namespace {
 
@@ -23,6 +26,7 @@ Usage:
   rigidae compare SCENE.toml [options]   every coordinates x equations x scheme side by side
   rigidae study [list|run|collect] STUDY.toml [options]
                                          accuracy studies: a grid of runs, sharded or not
+  rigidae COMMAND --help                 the options of one command
   rigidae --help                         this text
   rigidae --version                      version of rigidae
 
@@ -39,8 +43,9 @@ Exit codes: 0 success, 1 the solver failed or was interrupted (outputs kept),
 
 void print_help() {
   fmt::print("{}", kUsage);
-  fmt::print(fmt::runtime(cli::kSolveHelp), fmt::arg("schemes", cli::valid_list(scheme_names())));
-  fmt::print("\nScene overrides (solve and compare):\n{}\n{}\n{}{}", cli::kSceneOptionsHelp, cli::kCompareHelp, cli::kStudyHelp, kTrailer);
+  for (const char* name : {"solve", "compare", "study"})
+    fmt::print("{}\n{}\n", std::string(79, '-'), cli::command_help(cli::command_info(name)));
+  fmt::print("{}", kTrailer);
 }
 
 // The first Ctrl-C (or TERM) asks the run to stop after the current step and
@@ -66,12 +71,15 @@ int run(int argc, char** argv) {
   // Ctrl-C or a job scheduler's TERM: stop between steps, keep what is written.
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
+  // Past a file-size limit (ulimit -f) a write fails with EFBIG, which the
+  // checked outputs report, instead of the process dying without a word.
+  std::signal(SIGXFSZ, SIG_IGN);
   const std::vector<std::string> rest(args.begin() + 1, args.end());
   if (args[0] == "solve") return cli::solve_command(rest);
   if (args[0] == "compare") return cli::compare_command(rest);
   if (args[0] == "study") return cli::study_command(rest);
-  throw InputError(
-      fmt::format("unknown command '{}'; valid commands: solve, compare, study (see rigidae --help)", args[0]));
+  throw InputError(fmt::format("unknown command '{}'{} (valid commands: solve, compare, study; see rigidae --help)",
+                               text::printable(args[0]), cli::did_you_mean(args[0], {"solve", "compare", "study"})));
 }
 
 }  // namespace
@@ -80,12 +88,16 @@ int main(int argc, char** argv) {
   try {
     return run(argc, argv);
   } catch (const InputError& e) {
+    cli::remove_rejected_output_folders();
     // Scene-file errors already read "FILE:LINE:COL: error: ..."
     const std::string msg = e.what();
     fmt::print(stderr, "{}{}\n", msg.find(": error: ") == std::string::npos ? "rigidae: error: " : "", msg);
     return 2;
   } catch (const SolverError& e) {
     fmt::print(stderr, "rigidae: solver error: {}\n", e.what());
+    return 1;
+  } catch (const OutputError& e) {
+    fmt::print(stderr, "rigidae: error: {}\n", e.what());
     return 1;
   } catch (const std::exception& e) {
     fmt::print(stderr, "rigidae: internal error: {}\n", e.what());

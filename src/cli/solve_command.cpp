@@ -4,22 +4,10 @@
 #include "commands.hpp"
 #include "rigidae/app/solve.hpp"
 #include "rigidae/core/error.hpp"
-#include "scene_options.hpp"
+#include "rigidae/app/command_line.hpp"
+#include "output_folder.hpp"
 
 namespace rigidae::cli {
-
-const char* kSolveHelp = R"(Options of 'solve' (each overrides the scene file):
-  --coordinates euler|quaternion|linear
-                          rotation coordinates: Euler angles (3, singular charts,
-                          switched during the run), unit quaternions (4, 1
-                          constraint) or the 9 entries of R (6 constraints)
-  --equations lagrange|euler
-                          Lagrange form (mass matrix in the coordinates) or Euler
-                          form (body angular velocity states + kinematics)
-  --scheme NAME           constraint treatment: {schemes}
-  --out DIR               output folder (default: out/NAME-COORDINATES-EQUATIONS-SCHEME)
-  --quiet                 print nothing on success
-)";
 
 namespace {
 
@@ -59,19 +47,23 @@ void print_report(const Scene& scene, const SolveOutcome& o) {
 }  // namespace
 
 int solve_command(const std::vector<std::string>& args) {
-  std::string out_arg;
-  bool quiet = false;
-  const Scene scene = parse_command_line(args, "solve", [&](const std::string& opt, const NextValue& value) {
-    if (opt == "--quiet") quiet = true;
-    else if (opt == "--out") out_arg = value();
-    else return false;
-    return true;
-  });
+  const CommandInfo& info = command_info("solve");
+  const CommandLine cl = parse_arguments(args, info);
+  if (cl.help) {
+    fmt::print("{}", command_help(info));
+    return 0;
+  }
+  const Scene scene = scene_from(cl, info);
+  const std::string out_arg = cl.text("--out");
+  const bool quiet = cl.has("--quiet");
 
   const std::filesystem::path out =
       out_arg.empty() ? std::filesystem::path("out") / default_run_name(scene) : std::filesystem::path(out_arg);
+  create_output_folder(out, /*disposable=*/true);
   const SolveOutcome o = solve_scene(scene, out);
   if (!quiet || o.run.status != RunStatus::Success) print_report(scene, o);
+  // Accuracy warnings (app/accuracy_check.hpp) reach stderr even with --quiet.
+  for (const AccuracyWarning& w : o.warnings) fmt::print(stderr, "rigidae: warning: {}\n", w.message);
   if (o.run.status != RunStatus::Success) {
     fmt::print(stderr, "rigidae: error: {}\n", o.run.message);
     return 1;

@@ -3,36 +3,21 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstring>
 #include <cstdio>
 #include <filesystem>
 
+#include "rigidae/app/command_line.hpp"
 #include "commands.hpp"
+#include "output_folder.hpp"
 #include "plot_script.hpp"
 #include "rigidae/app/study.hpp"
 #include "rigidae/core/error.hpp"
+#include "rigidae/core/text.hpp"
 
 namespace rigidae::cli {
-
-const char* kStudyHelp = R"(Accuracy studies (study file format: docs/studies.md):
-  rigidae study STUDY.toml            run every run not yet complete, then collect
-  rigidae study list STUDY.toml       print one command per run (for GNU parallel)
-  rigidae study run STUDY.toml        run a slice: --shard i/N (0 <= i < N), or the
-                                      Slurm array task's slice, or one --run ID
-  rigidae study collect STUDY.toml    merge run folders into results.csv and
-                                      best.txt, draw the figures
-Options of 'study':
-  --out DIR               study folder (default: out/STUDY_NAME)
-  --shard i/N             (run) slice i of N: runs k with k % N == i
-  --run ID                (run) one run, by the id 'list' prints
-  --no-plot               (collect) skip the figures (tools/plot_study.py)
-  --partial               (collect) exit 0 even if some runs are missing
-  --quiet                 no progress on stderr
-A complete run (its folder holds run.json) is never redone: rerun the same
-command to resume an interrupted study. Exit codes: 0 done, 1 interrupted or
-(collect) runs missing, 2 bad input.
-)";
 
 namespace {
 
@@ -45,32 +30,40 @@ struct StudyCommandLine {
   fs::path out;
   std::optional<Shard> shard;
   std::string run_id;
-  bool plot = true, partial = false, quiet = false;
+  bool plot = true, partial = false, quiet = false, keep_steps = false;
 };
 
-StudyCommandLine parse(const std::vector<std::string>& args) {
+constexpr std::array<std::string_view, 3> kSubcommands{"list", "run", "collect"};
+
+StudyCommandLine parse(const CommandLine& cl) {
   StudyCommandLine c;
-  std::size_t i = 0;
-  if (!args.empty() && (args[0] == "list" || args[0] == "run" || args[0] == "collect")) c.action = args[i++];
-  for (; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= args.size()) throw InputError(fmt::format("option {} needs a value (see rigidae --help)", a));
-      return args[++i];
-    };
-    if (a == "--out") c.out = value();
-    else if (a == "--shard") c.shard = parse_shard(value());
-    else if (a == "--run") c.run_id = value();
-    else if (a == "--no-plot") c.plot = false;
-    else if (a == "--partial") c.partial = true;
-    else if (a == "--quiet") c.quiet = true;
-    else if (!a.empty() && a[0] == '-')
-      throw InputError(fmt::format("unknown option '{}' for study; valid: --out, --shard, --run, --no-plot, "
-                                   "--partial, --quiet (see rigidae --help)", a));
-    else if (c.file.empty()) c.file = a;
-    else throw InputError(fmt::format("unexpected argument '{}': study takes one study file", a));
+  std::vector<std::string> words = cl.positional;
+  if (!words.empty()) {
+    const std::string& first = words.front();
+    std::error_code ec;
+    if (std::find(kSubcommands.begin(), kSubcommands.end(), first) != kSubcommands.end()) {
+      c.action = first;
+      words.erase(words.begin());
+    } else if (!fs::exists(first, ec)) {
+      // Not a file: a misspelt subcommand when a study file follows it or it is close to one.
+      const std::string hint = did_you_mean(first, {kSubcommands.begin(), kSubcommands.end()});
+      if (words.size() > 1 || (!hint.empty() && fs::path(first).extension() != ".toml"))
+        throw InputError(fmt::format("unknown study subcommand '{}'{} (valid: list, run, collect, or none to run "
+                                     "and collect; see rigidae study --help)",
+                                     text::printable(first), hint));
+    }
   }
-  if (c.file.empty()) throw InputError("study needs a study file: rigidae study [list|run|collect] STUDY.toml");
+  if (words.empty()) throw InputError("study needs a study file: rigidae study [list|run|collect] STUDY.toml");
+  if (words.size() > 1)
+    throw InputError(fmt::format("unexpected argument '{}': study takes one study file", text::printable(words[1])));
+  c.file = words.front();
+  c.out = cl.text("--out");
+  if (cl.has("--shard")) c.shard = parse_shard(cl.text("--shard"));
+  c.run_id = cl.text("--run");
+  c.plot = !cl.has("--no-plot");
+  c.partial = cl.has("--partial");
+  c.quiet = cl.has("--quiet");
+  c.keep_steps = cl.has("--keep-steps");
   if ((c.shard || !c.run_id.empty()) && c.action != "run")
     throw InputError("--shard and --run apply to 'rigidae study run' only");
   if (c.shard && !c.run_id.empty()) throw InputError("give either --shard or --run, not both");
@@ -131,12 +124,17 @@ int collect(const StudySpec& spec, const StudyCommandLine& c) {
 }  // namespace
 
 int study_command(const std::vector<std::string>& args) {
-  StudyCommandLine c = parse(args);
+  const CommandInfo& info = command_info("study");
+  const CommandLine cl = parse_arguments(args, info);
+  if (cl.help) {
+    fmt::print("{}", command_help(info));
+    return 0;
+  }
+  StudyCommandLine c = parse(cl);
   const StudySpec spec = load_study(c.file);
   if (c.out.empty()) c.out = fs::path("out") / spec.name;
   std::error_code ec;
-  fs::create_directories(c.out, ec);
-  if (ec) throw InputError(fmt::format("{}: cannot create the study folder: {}", c.out.string(), ec.message()));
+  create_output_folder(c.out, /*disposable=*/false);
 
   const std::vector<StudyRun> plan = plan_study(spec);
   if (c.action == "list") {
@@ -165,6 +163,7 @@ int study_command(const std::vector<std::string>& args) {
   ProgressLine progress(c.quiet);
   StudyRunOptions opt;
   opt.out = c.out;
+  opt.keep_steps = c.keep_steps;
   opt.progress = [&](const StudyProgress& p) { progress.update(p); };
   if (!run_study(spec, todo, opt)) {
     fmt::print(stderr, "\nrigidae: study interrupted; complete runs are kept, rerun the same command to resume\n");

@@ -53,18 +53,15 @@ class EulerAnglesEuler final : public EulerAnglesRepresentation {
   }
   Vec3 body_angular_velocity(const VecQ& /*q*/, const VecV& v) const override { return v.head<3>(); }
 
-  bool change_chart(VecQ& q, VecV& /*v*/) override {
-    Vec3 a = q.head<3>();
-    if (!chart_.move_to_most_regular(a)) return false;
-    q = a;
-    return true;
+  std::unique_ptr<Representation> in_chart(int c) const override {
+    return std::make_unique<EulerAnglesEuler>(body_, so3::all_euler_sequences().at(static_cast<std::size_t>(c)));
   }
 };
 
 }  // namespace
 
-std::unique_ptr<Representation> make_euler_angles_euler(const Scene& scene, const RigidBodyModel& body) {
-  return std::make_unique<EulerAnglesEuler>(scene, body);
+std::unique_ptr<Representation> make_euler_angles_euler(const RigidBodyModel& body, const so3::EulerSequence& start_chart) {
+  return std::make_unique<EulerAnglesEuler>(body, start_chart);
 }
 
 }  // namespace rigidae::coords

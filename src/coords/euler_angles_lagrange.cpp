@@ -82,20 +82,15 @@ class EulerAnglesLagrange final : public EulerAnglesRepresentation {
     return chart_.rate_matrix(q.head<3>()) * v.head<3>();
   }
 
-  bool change_chart(VecQ& q, VecV& v) override {
-    const Vec3 w = body_angular_velocity(q, v);
-    Vec3 a = q.head<3>();
-    if (!chart_.move_to_most_regular(a)) return false;
-    q = a;
-    v = chart_.rate_matrix(a).partialPivLu().solve(w);
-    return true;
+  std::unique_ptr<Representation> in_chart(int c) const override {
+    return std::make_unique<EulerAnglesLagrange>(body_, so3::all_euler_sequences().at(static_cast<std::size_t>(c)));
   }
 };
 
 }  // namespace
 
-std::unique_ptr<Representation> make_euler_angles_lagrange(const Scene& scene, const RigidBodyModel& body) {
-  return std::make_unique<EulerAnglesLagrange>(scene, body);
+std::unique_ptr<Representation> make_euler_angles_lagrange(const RigidBodyModel& body, const so3::EulerSequence& start_chart) {
+  return std::make_unique<EulerAnglesLagrange>(body, start_chart);
 }
 
 }  // namespace rigidae::coords

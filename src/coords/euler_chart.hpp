@@ -11,26 +11,23 @@
 
 namespace rigidae::coords {
 
+// One Euler-angle chart: a sequence, fixed for the chart's lifetime.
 class EulerChart {
  public:
-  // The scene's sequence if it names one, else the most regular at R0.
-  explicit EulerChart(const Scene& scene)
-      : seq_(scene.formulation.euler.sequence.value_or(so3::most_regular_sequence(scene.R0_WB))) {}
+  explicit EulerChart(const so3::EulerSequence& seq) : seq_(seq) {}
 
   const so3::EulerSequence& sequence() const { return seq_; }
+  // Its number among so3::all_euler_sequences().
+  int index() const { return sequence_index(seq_); }
   Mat3 rotation(const Vec3& angles) const { return so3::euler_to_matrix(seq_, angles); }
   Mat3 rate_matrix(const Vec3& angles) const { return so3::euler_rate_matrix(seq_, angles); }
   double margin(const Vec3& angles) const { return so3::singularity_margin(seq_, angles); }
 
-  // Moves to the sequence most regular at `angles`' orientation; returns false
-  // when the current one already is. On true, `angles` holds the new angles.
-  bool move_to_most_regular(Vec3& angles) {
-    const Mat3 R = rotation(angles);
-    const so3::EulerSequence best = so3::most_regular_sequence(R);
-    if (best == seq_) return false;
-    seq_ = best;
-    angles = so3::matrix_to_euler(seq_, R);
-    return true;
+  static int sequence_index(const so3::EulerSequence& seq) {
+    const auto& all = so3::all_euler_sequences();
+    for (int i = 0; i < static_cast<int>(all.size()); ++i)
+      if (all[i] == seq) return i;
+    return 0;
   }
 
  private:
@@ -56,7 +53,7 @@ inline std::array<Mat3, 3> rate_matrix_partials(const Mat3& B) {
 // Three angles, no constraints, charts: the parts both equation forms share.
 class EulerAnglesRepresentation : public Representation {
  public:
-  EulerAnglesRepresentation(const Scene& scene, const RigidBodyModel& body) : body_(body), chart_(scene) {}
+  EulerAnglesRepresentation(const RigidBodyModel& body, const so3::EulerSequence& seq) : body_(body), chart_(seq) {}
 
   int nq() const override { return 3; }
   int nv() const override { return 3; }
@@ -67,7 +64,12 @@ class EulerAnglesRepresentation : public Representation {
   Vec4 orientation(const VecQ& q) const override { return so3::matrix_to_quaternion(placement(q)); }
   Mat3 placement(const VecQ& q) const override { return chart_.rotation(q.head<3>()); }
 
+  int chart_count() const override { return static_cast<int>(so3::all_euler_sequences().size()); }
+  int chart() const override { return chart_.index(); }
   bool has_charts() const override { return true; }
+  int most_regular_chart(const VecQ& q) const override {
+    return EulerChart::sequence_index(so3::most_regular_sequence(placement(q)));
+  }
   double chart_margin(const VecQ& q) const override { return chart_.margin(q.head<3>()); }
   std::string chart_name() const override { return chart_.sequence().name(); }
 

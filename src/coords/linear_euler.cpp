@@ -77,7 +77,7 @@ class LinearEuler final : public Representation {
 
 }  // namespace
 
-std::unique_ptr<Representation> make_linear_euler(const Scene& /*scene*/, const RigidBodyModel& body) {
+std::unique_ptr<Representation> make_linear_euler(const RigidBodyModel& body, const so3::EulerSequence& /*start_chart*/) {
   return std::make_unique<LinearEuler>(body);
 }
 

@@ -84,7 +84,7 @@ class LinearLagrange final : public Representation {
 
 }  // namespace
 
-std::unique_ptr<Representation> make_linear_lagrange(const Scene& /*scene*/, const RigidBodyModel& body) {
+std::unique_ptr<Representation> make_linear_lagrange(const RigidBodyModel& body, const so3::EulerSequence& /*start_chart*/) {
   return std::make_unique<LinearLagrange>(body);
 }
 

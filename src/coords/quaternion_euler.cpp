@@ -79,7 +79,7 @@ class QuaternionEuler final : public Representation {
 
 }  // namespace
 
-std::unique_ptr<Representation> make_quaternion_euler(const Scene& /*scene*/, const RigidBodyModel& body) {
+std::unique_ptr<Representation> make_quaternion_euler(const RigidBodyModel& body, const so3::EulerSequence& /*start_chart*/) {
   return std::make_unique<QuaternionEuler>(body);
 }
 

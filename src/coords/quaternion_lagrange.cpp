@@ -120,7 +120,7 @@ class QuaternionLagrange final : public Representation {
 
 }  // namespace
 
-std::unique_ptr<Representation> make_quaternion_lagrange(const Scene& /*scene*/, const RigidBodyModel& body) {
+std::unique_ptr<Representation> make_quaternion_lagrange(const RigidBodyModel& body, const so3::EulerSequence& /*start_chart*/) {
   return std::make_unique<QuaternionLagrange>(body);
 }
 

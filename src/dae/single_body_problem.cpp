@@ -10,14 +10,15 @@
 
 namespace rigidae {
 
-SingleBodyProblem::SingleBodyProblem(DaeSystem& dae, const EulerChartSpec& charts, const Mat3& R0_WB,
+SingleBodyProblem::SingleBodyProblem(const DaeSystem& dae, const EulerChartSpec& charts, const Mat3& R0_WB,
                                      const Vec3& omega0_B, std::string source)
-    : dae_(dae), charts_(charts), R0_WB_(R0_WB), omega0_B_(omega0_B), source_(std::move(source)),
+    : dae_(dae), chart_(dae.start_chart()), charts_(charts), R0_WB_(R0_WB), omega0_B_(omega0_B), source_(std::move(source)),
       projection_(dae.scheme().projection()) {}
 
 void SingleBodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
-  dae_.consistent_state(t0, R0_WB_, omega0_B_, y, yp);
-  const Representation& rep = dae_.representation();
+  chart_ = dae_.start_chart();
+  dae_.consistent_state(chart_, t0, R0_WB_, omega0_B_, y, yp);
+  const Representation& rep = representation();
   // A chart that starts too close to its singularity.
   if (!rep.has_charts() || rep.chart_margin(dae_.coordinates(y.data())) > charts_.switch_threshold) return;
   if (!charts_.switching)
@@ -28,7 +29,7 @@ void SingleBodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::Vect
   // Rebuilt from the physical start in the new chart: velocities that went
   // through the old chart (angle rates B^-1 omega) are lost at its
   // singularity, e.g. a top that starts exactly upright in z-x-z.
-  if (change_chart(t0, y, yp)) dae_.consistent_state(t0, R0_WB_, omega0_B_, y, yp);
+  if (change_chart(t0, y, yp)) dae_.consistent_state(chart_, t0, R0_WB_, omega0_B_, y, yp);
 }
 
 // Coordinates and velocities: the user's atol. Multipliers never enter the
@@ -51,7 +52,7 @@ void SingleBodyProblem::absolute_tolerances(double rtol, double atol, const Eige
 }
 
 bool SingleBodyProblem::residual(double t, const double* y, const double* yp, double* F) {
-  dae_.residual(t, y, yp, F);
+  dae_.residual(chart_, t, y, yp, F);
   for (int i = 0, n = dae_.size(); i < n; ++i)
     if (!std::isfinite(F[i])) return false;
   return true;
@@ -59,11 +60,11 @@ bool SingleBodyProblem::residual(double t, const double* y, const double* yp, do
 
 // g = chart margin - threshold: a root where the chart nears its singularity.
 void SingleBodyProblem::event_functions(double /*t*/, const double* y, double* g) {
-  g[0] = dae_.representation().chart_margin(dae_.coordinates(y)) - charts_.switch_threshold;
+  g[0] = representation().chart_margin(dae_.coordinates(y)) - charts_.switch_threshold;
 }
 
 StepAction SingleBodyProblem::on_event(double t, double h, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
-  const Representation& rep = dae_.representation();
+  const Representation& rep = representation();
   if (!charts_.switching) {
     StepAction fail;
     fail.kind = StepAction::Kind::Fail;
@@ -85,11 +86,11 @@ StepAction SingleBodyProblem::on_event(double t, double h, Eigen::VectorXd& y, E
 
 StepAction SingleBodyProblem::after_step(double t, double h, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
   if (!projection_.enabled) return StepAction::proceed();
-  const ConstraintDrift before = dae_.drift(t, y.data());
+  const ConstraintDrift before = dae_.drift(chart_, t, y.data());
   if (!projection_.every_step && before.position <= projection_.threshold &&
       before.velocity <= projection_.threshold)
     return StepAction::proceed();
-  dae_.project(t, y, yp);
+  dae_.project(chart_, t, y, yp);
   EventNote note;
   note.t = t;
   note.what = "projection";
@@ -111,19 +112,16 @@ std::vector<EventNote> SingleBodyProblem::take_events() {
 }
 
 bool SingleBodyProblem::change_chart(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
-  Representation& rep = dae_.representation();
-  VecQ q = dae_.coordinates(y.data());
-  VecV v = dae_.velocities(y.data());
+  const Representation& from = representation();
   EventNote note;
   note.t = t;
   note.what = "chart_switch";
-  note.from = rep.chart_name();
-  note.margin = rep.chart_margin(q);
-  if (!rep.change_chart(q, v)) return false;
-  note.to = rep.chart_name();
-  y.segment(dae_.layout().q_offset(), q.size()) = q;
-  y.segment(dae_.layout().v_offset(), v.size()) = v;
-  dae_.make_consistent(t, y, yp);
+  note.from = from.chart_name();
+  note.margin = from.chart_margin(dae_.coordinates(y.data()));
+  const int to = dae_.change_chart(chart_, t, y, yp);
+  if (to == chart_) return false;
+  chart_ = to;
+  note.to = representation().chart_name();
   events_.push_back(std::move(note));
   return true;
 }

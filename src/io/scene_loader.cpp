@@ -1,10 +1,14 @@
-// Scene files: TOML, schema_version 1. The format is documented key by key in
-// docs/scene_format.md; this file is its only implementation.
+// Scene files: TOML, schema_version 1 (one body). The format is documented
+// key by key in docs/scene_format.md; this file is its only implementation.
+// A file with schema_version = 2 (bodies and joints) is handed to
+// multibody_loader.cpp, which shares this file's readers of the common tables
+// (scene_sections.hpp).
 //
 // Every problem is reported as an InputError whose message starts with
 // "FILE:LINE:COL: error: " (the position of the offending key or value, or of
 // the enclosing table when a key is missing) and says what would be valid.
 #include "rigidae/io/scene_loader.hpp"
+#include "parse_hints.hpp"
 #include "rigidae/schemes/scheme.hpp"
 
 #include <fmt/format.h>
@@ -28,8 +32,10 @@
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/exact/exact_solution.hpp"
+#include "rigidae/settings/settings.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
 #include "rigidae/so3/rotation.hpp"
+#include "scene_sections.hpp"
 #include "toml_reader.hpp"
 
 namespace rigidae::io {
@@ -41,6 +47,7 @@ namespace {
 
 
 constexpr int kSchemaVersion = 1;
+constexpr int kMultibodySchemaVersion = 2;  // bodies and joints: multibody_loader.cpp
 
 constexpr std::array<std::string_view, 11> kRootKeys{
     "schema_version", "name", "description", "body", "support",
@@ -53,44 +60,76 @@ constexpr std::array<std::string_view, 6> kInitialKeys{
     "quaternion", "euler", "matrix", "axis_angle", "angular_velocity", "angular_velocity_frame"};
 constexpr std::array<std::string_view, 3> kInitialEulerKeys{"sequence", "convention", "angles"};
 constexpr std::array<std::string_view, 2> kAxisAngleKeys{"axis", "angle"};
-constexpr std::array<std::string_view, 3> kTimeKeys{"start", "end", "output_step"};
-constexpr std::array<std::string_view, 6> kFormulationKeys{"coordinates", "equations", "scheme",
-                                                           "euler_angles", "baumgarte", "projection"};
-constexpr std::array<std::string_view, 4> kEulerAnglesKeys{"sequence", "convention", "switching",
-                                                           "switch_threshold"};
-constexpr std::array<std::string_view, 2> kBaumgarteKeys{"a", "b"};
-constexpr std::array<std::string_view, 2> kProjectionKeys{"when", "threshold"};
-constexpr std::array<std::string_view, 7> kSolverKeys{"rtol",         "atol",     "max_steps",    "max_order",
-                                                      "initial_step", "jacobian", "linear_solver"};
+// The keys of a table that holds settings: those the table of settings
+// (src/settings/table.cpp) places in it, then the table's structural keys.
+// A setting added there is accepted here without another list to edit.
+std::vector<std::string_view> setting_keys(std::string_view table, std::initializer_list<std::string_view> structural) {
+  std::vector<std::string_view> keys;
+  for (const settings::Setting& s : settings::all()) {
+    const std::size_t dot = s.scene_key.rfind('.');
+    if (!s.scene_key.empty() && dot != std::string_view::npos && s.scene_key.substr(0, dot) == table)
+      keys.push_back(s.scene_key.substr(dot + 1));
+  }
+  keys.insert(keys.end(), structural.begin(), structural.end());
+  return keys;
+}
+
+// Built on first use (the table of settings lives in another translation unit).
+struct SettingTables {
+  std::vector<std::string_view> time = setting_keys("time", {});
+  std::vector<std::string_view> formulation = setting_keys("formulation", {"euler_angles", "baumgarte", "projection"});
+  std::vector<std::string_view> euler_angles = setting_keys("formulation.euler_angles", {"convention"});
+  std::vector<std::string_view> baumgarte = setting_keys("formulation.baumgarte", {});
+  std::vector<std::string_view> projection = setting_keys("formulation.projection", {});
+  std::vector<std::string_view> solver = setting_keys("solver", {});
+};
 
 constexpr std::array<std::string_view, 4> kOrientationForms{"quaternion", "euler", "matrix",
                                                             "axis_angle"};
 
-// Used to point a key written in the wrong table to the right one.
-const std::array<SectionKeys, 13> kAllSections{{
-    {"", kRootKeys},
-    {"body", kBodyKeys},
-    {"support", kSupportKeys},
-    {"gravity", kGravityKeys},
-    {"initial", kInitialKeys},
-    {"initial.euler", kInitialEulerKeys},
-    {"initial.axis_angle", kAxisAngleKeys},
-    {"time", kTimeKeys},
-    {"formulation", kFormulationKeys},
-    {"formulation.euler_angles", kEulerAnglesKeys},
-    {"formulation.baumgarte", kBaumgarteKeys},
-    {"formulation.projection", kProjectionKeys},
-    {"solver", kSolverKeys},
-}};
+// Every table's keys, used to point a key written in the wrong table to the right one.
+struct Schema {
+  SettingTables settings;
+  std::array<SectionKeys, 13> sections{{
+      {"", kRootKeys},
+      {"body", kBodyKeys},
+      {"support", kSupportKeys},
+      {"gravity", kGravityKeys},
+      {"initial", kInitialKeys},
+      {"initial.euler", kInitialEulerKeys},
+      {"initial.axis_angle", kAxisAngleKeys},
+      {"time", settings.time},
+      {"formulation", settings.formulation},
+      {"formulation.euler_angles", settings.euler_angles},
+      {"formulation.baumgarte", settings.baumgarte},
+      {"formulation.projection", settings.projection},
+      {"solver", settings.solver},
+  }};
+};
+
+const Schema& schema() {
+  static const Schema s;
+  return s;
+}
+
+// The tables both schemas share ([gravity], [time], [formulation...],
+// [solver]), for pointing misplaced keys of a schema-2 file to the right table.
+std::span<const SectionKeys> shared_sections_impl() {
+  static const std::vector<SectionKeys> shared = [] {
+    std::vector<SectionKeys> v;
+    for (const SectionKeys& s : schema().sections)
+      if (s.name == "gravity" || s.name == "time" || s.name == "solver" || s.name.rfind("formulation", 0) == 0)
+        v.push_back(s);
+    return v;
+  }();
+  return shared;
+}
 
 // Magnitudes beyond these are taken as input mistakes (wrong units, typos).
 constexpr double kMaxMass = 1e9;                 // kg
 constexpr double kMaxAngularVelocity = 1e6;      // rad/s
 constexpr double kMaxGravity = 1e4;              // m/s^2
 constexpr double kMaxCenterOfMass = 1e6;         // m
-constexpr double kMaxBaumgarteGain = 1e8;        // 1/s
-constexpr double kMinRtol = kMinRelativeTolerance;  // see scene.hpp
-constexpr double kMaxTime = kMaxTimeMagnitude;   // s, |time.start| and |time.end|
 constexpr std::size_t kMaxNameBytes = 100;       // the name becomes part of the default output folder
 constexpr std::size_t kMaxSceneBytes = 1 << 20;  // a scene is a few hundred bytes; a bigger file is a mistake
 
@@ -111,66 +150,81 @@ std::string fmt_vec6(const Vec3& v) { return fmt::format("({:.6g}, {:.6g}, {:.6g
 // Where the inertia came from, for messages about it once the support is known.
 struct InertiaSource {
   const toml::node* node = nullptr;
-  const char* name = "";
+  std::string name;
 };
 
-InertiaSource read_body(const TomlReader& r, const toml::table& root, Scene& scene) {
-  const toml::table& body = r.required_table(root, "", "body");
-  r.check_keys(body, "body", kBodyKeys, kAllSections);
-
-  const toml::node& mass_node = r.required(body, "body", "mass", "kg, > 0");
-  const double mass = r.number(mass_node, "body.mass");
+// The mass and the inertia about the centre of mass of one body table
+// (schema 1: [body]; schema 2: each [[bodies]] entry). `prefix` names the
+// values in messages ("body", "bodies[2]").
+detail::MassInertia read_mass_inertia_impl(const TomlReader& r, const toml::table& body, std::string_view table,
+                                   std::string_view prefix) {
+  detail::MassInertia out;
+  const std::string label = prefix == table ? table_label(table) : std::string(prefix);
+  const std::string mass_name = join_key(prefix, "mass");
+  const toml::node& mass_node = r.required(body, table, "mass", "kg, > 0");
+  const double mass = r.number(mass_node, mass_name);
   if (!(mass > 0.0) || mass >= kMaxMass)
-    r.fail(mass_node, fmt::format("'body.mass' must be > 0 and < {:g} kg, got {}", kMaxMass, mass));
-  scene.body.mass = mass;
+    r.fail(mass_node, fmt::format("'{}' must be > 0 and < {:g} kg, got {}", mass_name, kMaxMass, mass));
+  out.mass = mass;
 
   const toml::node* principal = body.get("inertia_principal");
   const toml::node* full = body.get("inertia");
+  const std::string principal_name = join_key(prefix, "inertia_principal");
+  const std::string full_name = join_key(prefix, "inertia");
   if (principal && full) {
     const toml::node& later = before(principal->source().begin, full->source().begin) ? *full : *principal;
-    r.fail(later, "give either 'body.inertia_principal' or 'body.inertia', not both");
+    r.fail(later, fmt::format("give either '{}' or '{}', not both", principal_name, full_name));
   }
   if (!principal && !full)
     r.fail(body.source(),
-           "missing the inertia in [body]: give 'inertia_principal = [J1, J2, J3]' (kg m^2, "
-           "principal moments about the centre of mass along the body axes) or "
-           "'inertia = [[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]]'");
+           fmt::format("missing the inertia in {}: give 'inertia_principal = [J1, J2, J3]' (kg m^2, "
+                       "principal moments about the centre of mass along the body axes) or "
+                       "'inertia = [[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]]'",
+                       label));
 
-  Vec3 moments;
-  const toml::node* inertia_node = principal ? principal : full;
-  const char* inertia_name = principal ? "body.inertia_principal" : "body.inertia";
+  out.node = principal ? principal : full;
+  out.name = principal ? principal_name : full_name;
   if (principal) {
-    moments = r.vec3(*principal, inertia_name);
+    const Vec3 moments = r.vec3(*principal, out.name);
     const toml::array& a = *principal->as_array();
     for (int i = 0; i < 3; ++i)
       if (!(moments[i] > 0.0))
         r.fail(*a.get(i), fmt::format("'{}[{}]' must be > 0 (a principal moment of inertia), got {}",
-                                      inertia_name, i, moments[i]));
-    scene.body.inertia_com = moments.asDiagonal();
+                                      out.name, i, moments[i]));
+    out.inertia_com = moments.asDiagonal();
   } else {
     std::array<std::array<const toml::node*, 3>, 3> el{};
-    Mat3 I = r.mat3(*full, inertia_name, &el);
+    Mat3 I = r.mat3(*full, out.name, &el);
     const double scale = I.cwiseAbs().maxCoeff();
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < i; ++j) {
         const double asym = std::abs(I(i, j) - I(j, i));
         if (asym > kInertiaSymmetryTol * scale)
           r.fail(*el[i][j],
-                 fmt::format("'body.inertia' must be symmetric: element [{}][{}] = {} differs from "
+                 fmt::format("'{}' must be symmetric: element [{}][{}] = {} differs from "
                              "[{}][{}] = {} (relative difference {:.3g} > {:g})",
-                             i, j, I(i, j), j, i, I(j, i), scale > 0 ? asym / scale : 0.0,
+                             out.name, i, j, I(i, j), j, i, I(j, i), scale > 0 ? asym / scale : 0.0,
                              kInertiaSymmetryTol));
       }
     }
     I = 0.5 * (I + I.transpose()).eval();
     Eigen::SelfAdjointEigenSolver<Mat3> eig(I);
-    moments = eig.eigenvalues();
+    const Vec3 moments = eig.eigenvalues();
     if (!(moments.minCoeff() > 0.0))
-      r.fail(*full, fmt::format("'body.inertia' must be positive definite; its principal moments "
+      r.fail(*full, fmt::format("'{}' must be positive definite; its principal moments "
                                 "(eigenvalues) are {}",
-                                fmt_vec6(moments)));
-    scene.body.inertia_com = I;
+                                out.name, fmt_vec6(moments)));
+    out.inertia_com = I;
   }
+  return out;
+}
+
+InertiaSource read_body(const TomlReader& r, const toml::table& root, Scene& scene) {
+  const toml::table& body = r.required_table(root, "", "body");
+  r.check_keys(body, "body", kBodyKeys, schema().sections);
+  const detail::MassInertia mi = read_mass_inertia_impl(r, body, "body", "body");
+  scene.body.mass = mi.mass;
+  scene.body.inertia_com = mi.inertia_com;
   if (const toml::node* c = body.get("center_of_mass")) {
     const Vec3 com = r.vec3(*c, "body.center_of_mass");
     if (com.norm() > kMaxCenterOfMass)
@@ -179,63 +233,49 @@ InertiaSource read_body(const TomlReader& r, const toml::table& root, Scene& sce
                              com.norm(), kMaxCenterOfMass));
     scene.body.com_B = com;
   }
-  return {inertia_node, inertia_name};
+  return {mi.node, mi.name};
 }
 
 std::string fmt_moments(const Vec3& J) { return fmt::format("J1 = {}, J2 = {}, J3 = {}", J[0], J[1], J[2]); }
 
 // The triangle inequality of the principal moments. J_i <= J_j + J_k holds for
-// every mass distribution; equality means all the mass lies in one plane
-// through the reference point, and then the second moment of mass
-// (tr(J)/2 I - J) is singular -- the rotation is not determined by the motion
-// of the material points, and the linear-coordinate formulation has a
-// singular mass matrix. The reference point is the one the body rotates
-// about: the fixed point of a top, the centre of mass of a free body.
-void check_triangle_inequality(const TomlReader& r, const InertiaSource& src, const Scene& scene) {
-  const Mat3& Ic = scene.body.inertia_com;
+// every mass distribution; a scene that breaks it describes no body and is
+// refused. Equality is a lamina (all the mass in one plane through the centre
+// of mass, or, for a top, through the fixed point, which the parallel-axis
+// shift keeps valid): accepted. Its Euler tensor tr(J)/2 I - J is singular
+// along the plane's normal, so the mass matrix of the linear-coordinate and
+// quaternion Lagrange forms is singular in that direction, but not on the
+// constraint manifold's tangent space (a change R' = a n^T is never tangent
+// to SO(3)), so [M G^T; G 0] stays regular; the Euler forms and Euler angles
+// use J itself, positive definite. Measured: all 26 combinations on the
+// lamina (1, 2, 3) as accurate as on (1, 2, 2.9) (tests/unit/test_flat_body.cpp).
+// A moment of zero (a rod, a point) is refused earlier: J is then singular.
+// Shared with the schema-2 loader (one body of many, its moments about its
+// centre of mass).
+void check_possible_moments_impl(const TomlReader& r, const toml::node& node, std::string_view name,
+                                 const Mat3& Ic) {
   const Vec3 Jc = Eigen::SelfAdjointEigenSolver<Mat3>(Ic).eigenvalues();
   const double trace_c = Jc.sum();
   for (int i = 0; i < 3; ++i) {
     const double others = trace_c - Jc[i];
     if (Jc[i] > others + kTriangleTol * trace_c)
-      r.fail(*src.node,
+      r.fail(node,
              fmt::format("'{}': the principal moments about the centre of mass ({}) violate the "
                          "triangle inequality: J{} = {} exceeds the sum of the other two ({}); no "
-                         "mass distribution has these moments (valid: J1 < J2 + J3, J2 < J1 + J3, "
-                         "J3 < J1 + J2)",
-                         src.name, fmt_moments(Jc), i + 1, Jc[i], others));
+                         "mass distribution has these moments (valid: J1 <= J2 + J3, J2 <= J1 + J3, "
+                         "J3 <= J1 + J2; equality is a lamina)",
+                         name, fmt_moments(Jc), i + 1, Jc[i], others));
   }
+}
 
-  const bool fixed = scene.support == Support::FixedPoint;
-  const Vec3& c = scene.body.com_B;
-  const Mat3 I = fixed ? Mat3(Ic + scene.body.mass * (c.squaredNorm() * Mat3::Identity() - c * c.transpose()))
-                       : Ic;
-  const Vec3 J = Eigen::SelfAdjointEigenSolver<Mat3>(I).eigenvalues();
-  const double trace = J.sum();
-  const char* about = fixed ? "about the fixed point" : "about the centre of mass";
-  for (int i = 0; i < 3; ++i) {
-    const double others = trace - J[i];
-    if (J[i] >= others - kTriangleTol * trace)
-      r.fail(*src.node,
-             fmt::format("'{}': the principal moments {} ({}) break the strict triangle "
-                         "inequality: J{} = {} is not less than the sum of the other two ({}), so "
-                         "all the mass lies in one plane through {} -- a body with no thickness "
-                         "is not a rigid body here (valid: J1 < J2 + J3, J2 < J1 + J3 and "
-                         "J3 < J1 + J2, with a relative margin of {:g}){}",
-                         src.name, about, fmt_moments(J), i + 1, J[i], others,
-                         fixed ? "the fixed point" : "the centre of mass", kTriangleTol,
-                         fixed && c.squaredNorm() > 0.0
-                             ? fmt::format("; moments about the fixed point are J_com + m(|c|^2 I "
-                                           "- c c^T) with the centre of mass c = {}",
-                                           fmt_vec(c))
-                             : std::string()));
-  }
+void check_triangle_inequality(const TomlReader& r, const InertiaSource& src, const Scene& scene) {
+  check_possible_moments_impl(r, *src.node, src.name, scene.body.inertia_com);
 }
 
 void read_support(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* sup = r.optional_table(root, "", "support");
   if (!sup) return;
-  r.check_keys(*sup, "support", kSupportKeys, kAllSections);
+  r.check_keys(*sup, "support", kSupportKeys, schema().sections);
   if (const toml::node* t = sup->get("type")) {
     constexpr std::array<std::string_view, 2> opts{"fixed_point", "free"};
     scene.support = r.choice(*t, "support.type", opts) == 0 ? Support::FixedPoint : Support::Free;
@@ -245,7 +285,7 @@ void read_support(const TomlReader& r, const toml::table& root, Scene& scene) {
 void read_gravity(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* g = r.optional_table(root, "", "gravity");
   if (!g) return;
-  r.check_keys(*g, "gravity", kGravityKeys, kAllSections);
+  r.check_keys(*g, "gravity", kGravityKeys, schema().sections);
   if (const toml::node* a = g->get("acceleration")) {
     const Vec3 acc = r.vec3(*a, "gravity.acceleration");
     if (acc.norm() > kMaxGravity)
@@ -277,7 +317,14 @@ so3::EulerSequence read_sequence(const TomlReader& r, const toml::node& n, std::
   }
 }
 
-Mat3 read_orientation(const TomlReader& r, const toml::table& init) {
+// One orientation form of `tbl` (schema 1: [initial]; schema 2: each
+// [[bodies]] entry), as R_WB. `prefix` names the values in messages; unset
+// (not given and not `required`) when the table has none.
+std::optional<Mat3> read_orientation_impl(const TomlReader& r, const toml::table& init, std::string_view table,
+                                          std::string_view prefix, std::span<const SectionKeys> sections,
+                                          bool required) {
+  const std::string label = prefix == table ? table_label(table) : std::string(prefix);
+  const auto name_of = [&](std::string_view key) { return join_key(prefix, key); };
   const toml::node* form = nullptr;
   std::string_view form_name;
   for (auto name : kOrientationForms) {
@@ -286,103 +333,112 @@ Mat3 read_orientation(const TomlReader& r, const toml::table& init) {
     if (form) {
       const bool n_later = before(form->source().begin, n->source().begin);
       const toml::node& later = n_later ? *n : *form;
-      r.fail(later, fmt::format("[initial] has several orientations ('{}' and '{}'); give exactly "
+      r.fail(later, fmt::format("{} has several orientations ('{}' and '{}'); give exactly "
                                 "one of {}",
-                                n_later ? form_name : name, n_later ? name : form_name,
+                                label, n_later ? form_name : name, n_later ? name : form_name,
                                 quoted_list(kOrientationForms)));
     }
     form = n;
     form_name = name;
   }
+  if (!form && !required) return std::nullopt;
   if (!form)
-    r.fail(init.source(), fmt::format("[initial] needs an orientation: give exactly one of {} "
+    r.fail(init.source(), fmt::format("{} needs an orientation: give exactly one of {} "
                                       "(e.g. quaternion = [1.0, 0.0, 0.0, 0.0] for the identity)",
-                                      quoted_list(kOrientationForms)));
+                                      label, quoted_list(kOrientationForms)));
 
   if (form_name == "quaternion") {
-    const Vec4 q = r.vector<4>(*form, "initial.quaternion");
-    const double n = q.norm();
+    const std::string qname = name_of("quaternion");
+    const Vec4 q = r.vector<4>(*form, qname);
+    const double n = q.stableNorm();  // a norm of 1e-300 is not zero (squaring would make it so)
     if (n == 0.0)
-      r.fail(*form, "'initial.quaternion' has zero norm; give a unit quaternion (w, x, y, z), "
-                    "scalar first, e.g. [1.0, 0.0, 0.0, 0.0] for the identity");
+      r.fail(*form, fmt::format("'{}' has zero norm; give a unit quaternion (w, x, y, z), "
+                                "scalar first, e.g. [1.0, 0.0, 0.0, 0.0] for the identity",
+                                qname));
     const double dev = std::abs(n - 1.0);
     if (dev > kUnitTolError)
-      r.fail(*form, fmt::format("'initial.quaternion' has norm {} (| |q| - 1 | = {:.3g} > {:g}); "
+      r.fail(*form, fmt::format("'{}' has norm {} (| |q| - 1 | = {:.3g} > {:g}); "
                                 "normalise it (a unit quaternion is expected, scalar first)",
-                                n, dev, kUnitTolError));
+                                qname, n, dev, kUnitTolError));
     if (dev > kUnitTolSilent)
-      r.warn(*form, fmt::format("'initial.quaternion' has norm {} (| |q| - 1 | = {:.3g}); "
+      r.warn(*form, fmt::format("'{}' has norm {} (| |q| - 1 | = {:.3g}); "
                                 "normalised",
-                                n, dev));
+                                qname, n, dev));
     return so3::quaternion_to_matrix(q / n);
   }
 
   if (form_name == "matrix") {
-    const Mat3 M = r.mat3(*form, "initial.matrix");
+    const std::string mname = name_of("matrix");
+    const Mat3 M = r.mat3(*form, mname);
     const double dev = (M.transpose() * M - Mat3::Identity()).norm();
     if (dev > kUnitTolError)
-      r.fail(*form, fmt::format("'initial.matrix' is not orthogonal: ||R^T R - I||_F = {:.3g} > "
+      r.fail(*form, fmt::format("'{}' is not orthogonal: ||R^T R - I||_F = {:.3g} > "
                                 "{:g}; give the rotation matrix R_WB (rows, body to world) "
                                 "to at least 7 significant digits",
-                                dev, kUnitTolError));
+                                mname, dev, kUnitTolError));
     if (M.determinant() < 0.0)
-      r.fail(*form, "'initial.matrix' has determinant -1: it is a reflection, not a rotation "
-                    "(flip the sign of one row or column)");
+      r.fail(*form, fmt::format("'{}' has determinant -1: it is a reflection, not a rotation "
+                                "(flip the sign of one row or column)",
+                                mname));
     if (dev > kUnitTolSilent)
-      r.warn(*form, fmt::format("'initial.matrix' deviates from a rotation by ||R^T R - I||_F = "
+      r.warn(*form, fmt::format("'{}' deviates from a rotation by ||R^T R - I||_F = "
                                 "{:.3g}; replaced by the nearest rotation",
-                                dev));
+                                mname, dev));
     return so3::nearest_rotation(M);
   }
 
   if (form_name == "euler") {
     if (!form->is_table())
-      r.fail(*form, fmt::format("'initial.euler' must be a table such as {{ sequence = \"zxz\", "
+      r.fail(*form, fmt::format("'{}' must be a table such as {{ sequence = \"zxz\", "
                                 "convention = \"intrinsic\", angles = [0.1, 0.2, 0.3] }}, not {}",
-                                type_name(*form)));
+                                name_of("euler"), type_name(*form)));
     const toml::table& e = *form->as_table();
-    r.check_keys(e, "initial.euler", kInitialEulerKeys, kAllSections);
+    const std::string etable = join_key(table, "euler"), ename = name_of("euler");
+    r.check_keys(e, etable, kInitialEulerKeys, sections);
     const toml::node& seq_node =
-        r.required(e, "initial.euler", "sequence", "three axis letters such as \"zxz\" or \"zyx\"");
+        r.required(e, etable, "sequence", "three axis letters such as \"zxz\" or \"zyx\"");
     const toml::node& angles_node =
-        r.required(e, "initial.euler", "angles", "[a, b, c] in rad, in the order of the sequence");
-    const bool extrinsic = read_convention(r, e, "initial.euler");
-    Vec3 angles = r.vec3(angles_node, "initial.euler.angles");
-    const so3::EulerSequence seq = read_sequence(r, seq_node, "initial.euler.sequence", extrinsic, &angles);
+        r.required(e, etable, "angles", "[a, b, c] in rad, in the order of the sequence");
+    const bool extrinsic = read_convention(r, e, ename);
+    Vec3 angles = r.vec3(angles_node, join_key(ename, "angles"));
+    const so3::EulerSequence seq = read_sequence(r, seq_node, join_key(ename, "sequence"), extrinsic, &angles);
     return so3::euler_to_matrix(seq, angles);
   }
 
   // axis_angle
   if (!form->is_table())
-    r.fail(*form, fmt::format("'initial.axis_angle' must be a table such as {{ axis = [0.0, 0.0, "
+    r.fail(*form, fmt::format("'{}' must be a table such as {{ axis = [0.0, 0.0, "
                               "1.0], angle = 0.5 }}, not {}",
-                              type_name(*form)));
+                              name_of("axis_angle"), type_name(*form)));
   const toml::table& aa = *form->as_table();
-  r.check_keys(aa, "initial.axis_angle", kAxisAngleKeys, kAllSections);
+  const std::string atable = join_key(table, "axis_angle"), aname = name_of("axis_angle");
+  r.check_keys(aa, atable, kAxisAngleKeys, sections);
   const toml::node& axis_node =
-      r.required(aa, "initial.axis_angle", "axis", "[x, y, z], any non-zero length");
-  const toml::node& angle_node = r.required(aa, "initial.axis_angle", "angle", "rad");
-  const Vec3 axis = r.vec3(axis_node, "initial.axis_angle.axis");
-  const double angle = r.number(angle_node, "initial.axis_angle.angle");
+      r.required(aa, atable, "axis", "[x, y, z], any non-zero length");
+  const toml::node& angle_node = r.required(aa, atable, "angle", "rad");
+  const Vec3 axis = r.vec3(axis_node, join_key(aname, "axis"));
+  const double angle = r.number(angle_node, join_key(aname, "angle"));
   const double len = axis.norm();
   if (!(len > 0.0) || !std::isfinite(len))
-    r.fail(axis_node, "'initial.axis_angle.axis' must be a non-zero vector (it is normalised by "
-                      "the loader)");
+    r.fail(axis_node, fmt::format("'{}' must be a non-zero vector (it is normalised by "
+                                  "the loader)",
+                                  join_key(aname, "axis")));
   return so3::axis_angle_to_matrix(axis / len, angle);
 }
 
 void read_initial(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table& init = r.required_table(root, "", "initial");
-  r.check_keys(init, "initial", kInitialKeys, kAllSections);
-  scene.R0_WB = read_orientation(r, init);
+  r.check_keys(init, "initial", kInitialKeys, schema().sections);
+  scene.R0_WB = *read_orientation_impl(r, init, "initial", "initial", schema().sections, true);
 
   const toml::node& w_node =
       r.required(init, "initial", "angular_velocity", "[wx, wy, wz] in rad/s");
   const Vec3 w = r.vec3(w_node, "initial.angular_velocity");
-  if (w.norm() > kMaxAngularVelocity)
+  // stableNorm: |(1e300, 0, 0)| is 1e300, not the inf that squaring gives.
+  if (w.stableNorm() > kMaxAngularVelocity)
     r.fail(w_node, fmt::format("|initial.angular_velocity| = {} rad/s is too large; it must be at "
                                "most {:g} rad/s (check the units: rad/s, not rpm or deg/s)",
-                               w.norm(), kMaxAngularVelocity));
+                               w.stableNorm(), kMaxAngularVelocity));
   bool space = false;
   if (const toml::node* f = init.get("angular_velocity_frame")) {
     constexpr std::array<std::string_view, 2> opts{"body", "space"};
@@ -391,172 +447,87 @@ void read_initial(const TomlReader& r, const toml::table& root, Scene& scene) {
   scene.omega0_B = space ? Vec3(scene.R0_WB.transpose() * w) : w;
 }
 
+// The table's settings (rigidae/settings) that live in `table` of the scene:
+// read with the type the table states, checked by settings::problem, stored
+// through the table's accessor. One check and one wording for the scene file,
+// the command line and study files.
+void read_settings(const TomlReader& r, const toml::table& t, std::string_view table, Scene& scene) {
+  for (const settings::Setting& s : settings::all()) {
+    if (s.scene_key.empty() || !s.set) continue;
+    const std::size_t dot = s.scene_key.rfind('.');
+    const std::string_view parent = dot == std::string_view::npos ? std::string_view() : s.scene_key.substr(0, dot);
+    if (parent != table) continue;
+    const toml::node* n = t.get(dot == std::string_view::npos ? s.scene_key : s.scene_key.substr(dot + 1));
+    if (!n) continue;
+    settings::Value v;
+    switch (s.kind) {
+      case settings::Kind::Real: v = r.number(*n, s.scene_key); break;
+      case settings::Kind::Integer: v = r.integer(*n, s.scene_key); break;
+      case settings::Kind::Boolean: v = r.boolean(*n, s.scene_key); break;
+      case settings::Kind::Choice:
+      case settings::Kind::Text: v = r.string(*n, s.scene_key); break;
+    }
+    const std::string why = settings::problem(s, v);
+    if (!why.empty()) r.fail(*n, fmt::format("'{}' = {}", s.scene_key, why));
+    s.set(scene, v);
+  }
+}
+
 void read_time(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table& t = r.required_table(root, "", "time");
-  r.check_keys(t, "time", kTimeKeys, kAllSections);
-  double start = 0.0;
-  const auto check_magnitude = [&](const toml::node& n, std::string_view name, double x) {
-    if (std::abs(x) > kMaxTime)
-      r.fail(n, fmt::format("'{}' = {} s is too large; times must lie within +-{:g} s", name, x, kMaxTime));
-  };
-  if (const toml::node* s = t.get("start")) {
-    start = r.number(*s, "time.start");
-    check_magnitude(*s, "time.start", start);
-  }
-  const toml::node& end_node = r.required(t, "time", "end", "s, > start");
-  const double end = r.number(end_node, "time.end");
-  check_magnitude(end_node, "time.end", end);
-  if (!(end > start))
-    r.fail(end_node, fmt::format("'time.end' = {} must be greater than 'time.start' = {}", end, start));
-  const double span = end - start;
-  double step = span / 100.0;
-  if (const toml::node* o = t.get("output_step")) {
-    step = r.number(*o, "time.output_step");
-    if (!(step > 0.0) || step > span)
-      r.fail(*o, fmt::format("'time.output_step' = {} must be > 0 and <= end - start = {} s", step, span));
-    if (span / step > kMaxOutputIntervals)
-      r.fail(*o, fmt::format("'time.output_step' = {} gives {:.3g} output intervals over {} s; at "
-                             "most {:g} are allowed",
-                             step, span / step, span, kMaxOutputIntervals));
-  }
-  scene.time.start = start;
-  scene.time.end = end;
-  scene.time.output_step = step;
+  r.check_keys(t, "time", schema().settings.time, schema().sections);
+  r.required(t, "time", "end", "s, > start");
+  read_settings(r, t, "time", scene);
+  // Unset, the grid has 100 intervals (settings::cross_problem checks the grid).
+  if (!t.get("output_step") && scene.time.end > scene.time.start)
+    scene.time.output_step = (scene.time.end - scene.time.start) / 100.0;
 }
 
-void read_euler_charts(const TomlReader& r, const toml::table& f, EulerChartSpec& euler) {
+void read_euler_charts(const TomlReader& r, const toml::table& f, EulerChartSpec& euler, Scene& scene) {
   const toml::table* ea = r.optional_table(f, "formulation", "euler_angles");
   if (!ea) return;
-  r.check_keys(*ea, "formulation.euler_angles", kEulerAnglesKeys, kAllSections);
+  r.check_keys(*ea, "formulation.euler_angles", schema().settings.euler_angles, schema().sections);
   const bool extrinsic = read_convention(r, *ea, "formulation.euler_angles");
-  if (const toml::node* s = ea->get("sequence")) {
-    const std::string letters = r.string(*s, "formulation.euler_angles.sequence");
-    if (letters == "auto")
-      euler.sequence.reset();
-    else
-      euler.sequence = read_sequence(r, *s, "formulation.euler_angles.sequence", extrinsic, nullptr);
-  }
-  if (const toml::node* s = ea->get("switching"))
-    euler.switching = r.boolean(*s, "formulation.euler_angles.switching");
-  if (const toml::node* s = ea->get("switch_threshold")) {
-    const double th = r.number(*s, "formulation.euler_angles.switch_threshold");
-    if (!(th > 0.0 && th < 1.0))
-      r.fail(*s, fmt::format("'formulation.euler_angles.switch_threshold' = {} must lie in (0, 1) "
-                             "(a margin |sin b| or |cos b|)",
-                             th));
-    euler.switch_threshold = th;
-  }
-}
-
-void read_baumgarte(const TomlReader& r, const toml::table& f, BaumgarteGains& gains) {
-  const toml::table* b = r.optional_table(f, "formulation", "baumgarte");
-  if (!b) return;
-  r.check_keys(*b, "formulation.baumgarte", kBaumgarteKeys, kAllSections);
-  for (const char* key : {"a", "b"}) {
-    const toml::node* n = b->get(key);
-    if (!n) continue;
-    const std::string name = fmt::format("formulation.baumgarte.{}", key);
-    const double v = r.number(*n, name);
-    if (!(v >= 0.0 && v <= kMaxBaumgarteGain))
-      r.fail(*n, fmt::format("'{}' = {} must lie in [0, {:g}] (1/s; a rate of the constraint feedback)", name, v,
-                             kMaxBaumgarteGain));
-    (key[0] == 'a' ? gains.a : gains.b) = v;
-  }
-}
-
-void read_projection(const TomlReader& r, const toml::table& f, ProjectionSpec& spec) {
-  const toml::table* p = r.optional_table(f, "formulation", "projection");
-  if (!p) return;
-  r.check_keys(*p, "formulation.projection", kProjectionKeys, kAllSections);
-  if (const toml::node* w = p->get("when")) {
-    constexpr std::array<std::string_view, 2> opts{"threshold", "every_step"};
-    spec.every_step = r.choice(*w, "formulation.projection.when", opts) == 1;
-  }
-  if (const toml::node* n = p->get("threshold")) {
-    const double v = r.number(*n, "formulation.projection.threshold");
-    if (!(v > 0.0 && v < 1.0))
-      r.fail(*n, fmt::format("'formulation.projection.threshold' = {} must lie in (0, 1) (a drift |Phi|, e.g. 1e-8)",
-                             v));
-    spec.threshold = v;
-  }
+  read_settings(r, *ea, "formulation.euler_angles", scene);
+  // The table reads the letters as intrinsic; extrinsic letters name the reversed sequence.
+  if (extrinsic && euler.sequence) euler.sequence = so3::parse_euler_sequence(euler.sequence->name(), true);
 }
 
 void read_formulation(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* f = r.optional_table(root, "", "formulation");
   if (!f) return;
-  r.check_keys(*f, "formulation", kFormulationKeys, kAllSections);
-  Formulation& form = scene.formulation;
-  if (const toml::node* c = f->get("coordinates")) {
-    constexpr std::array<std::string_view, 3> opts{"euler", "quaternion", "linear"};
-    constexpr std::array<Coordinates, 3> vals{Coordinates::EulerAngles, Coordinates::Quaternion,
-                                              Coordinates::Linear};
-    form.coordinates = vals[r.choice(*c, "formulation.coordinates", opts)];
+  r.check_keys(*f, "formulation", schema().settings.formulation, schema().sections);
+  read_settings(r, *f, "formulation", scene);
+  read_euler_charts(r, *f, scene.formulation.euler, scene);
+  for (const char* sub : {"baumgarte", "projection"}) {
+    const std::string table = fmt::format("formulation.{}", sub);
+    const toml::table* t = r.optional_table(*f, "formulation", sub);
+    if (!t) continue;
+    r.check_keys(*t, table, sub[0] == 'b' ? schema().settings.baumgarte : schema().settings.projection,
+                 schema().sections);
+    read_settings(r, *t, table, scene);
   }
-  if (const toml::node* e = f->get("equations")) {
-    constexpr std::array<std::string_view, 2> opts{"lagrange", "euler"};
-    form.equations = r.choice(*e, "formulation.equations", opts) == 0 ? Equations::Lagrange
-                                                                      : Equations::Euler;
-  }
-  if (const toml::node* s = f->get("scheme")) {
-    // The scheme registry is the one list of valid names.
-    const std::vector<std::string> names = scheme_names();
-    const std::vector<std::string_view> views(names.begin(), names.end());
-    form.scheme = names[r.choice(*s, "formulation.scheme", views)];
-  }
-
-  read_euler_charts(r, *f, form.euler);
-  read_baumgarte(r, *f, form.baumgarte);
-  read_projection(r, *f, form.projection);
 }
 
 void read_solver(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::table* s = r.optional_table(root, "", "solver");
   if (!s) return;
-  r.check_keys(*s, "solver", kSolverKeys, kAllSections);
-  SolverSettings& sol = scene.solver;
-  if (const toml::node* n = s->get("rtol")) {
-    const double v = r.number(*n, "solver.rtol");
-    if (!(v >= kMinRtol && v < 1.0))
-      r.fail(*n, fmt::format("'solver.rtol' = {} must lie in [{:g}, 1), e.g. 1e-8 (below {:g} round-off in "
-                             "double precision exceeds the tolerance and the step size collapses)",
-                             v, kMinRtol, kMinRtol));
-    sol.rtol = v;
+  r.check_keys(*s, "solver", schema().settings.solver, schema().sections);
+  read_settings(r, *s, "solver", scene);
+}
+
+// Checks between settings, reported at the key they name (or its table when
+// the file leaves the key out).
+void check_settings_together(const TomlReader& r, const toml::table& root, const Scene& scene) {
+  const std::optional<settings::CrossProblem> p = settings::cross_problem(scene);
+  if (!p) return;
+  toml::node_view<const toml::node> at = root.at_path(p->scene_key);
+  std::string_view key = p->scene_key;
+  while (!at && key.find('.') != std::string_view::npos) {
+    key = key.substr(0, key.rfind('.'));
+    at = root.at_path(key);
   }
-  if (const toml::node* n = s->get("atol")) {
-    const double v = r.number(*n, "solver.atol");
-    if (!(v >= kMinAbsoluteTolerance && v < 1.0))
-      r.fail(*n, fmt::format("'solver.atol' = {} must lie in [{:g}, 1), e.g. 1e-8 (below {:g} IDA's weighted "
-                             "norms overflow)",
-                             v, kMinAbsoluteTolerance, kMinAbsoluteTolerance));
-    sol.atol = v;
-  }
-  if (const toml::node* n = s->get("max_steps")) {
-    const long long v = r.integer(*n, "solver.max_steps");
-    if (v < 1) r.fail(*n, fmt::format("'solver.max_steps' = {} must be an integer >= 1", v));
-    sol.max_steps = static_cast<long>(v);
-  }
-  if (const toml::node* n = s->get("max_order")) {
-    const long long v = r.integer(*n, "solver.max_order");
-    if (v < 1 || v > 5) r.fail(*n, fmt::format("'solver.max_order' = {} must be an integer from 1 to 5", v));
-    sol.max_order = static_cast<int>(v);
-  }
-  if (const toml::node* n = s->get("initial_step")) {
-    const double v = r.number(*n, "solver.initial_step");
-    if (!(v >= 0.0))
-      r.fail(*n, fmt::format("'solver.initial_step' = {} must be >= 0 (0: estimated at the start)", v));
-    sol.initial_step = v;
-  }
-  if (const toml::node* n = s->get("jacobian")) {
-    static constexpr std::array<std::string_view, 3> kJacobians{"exact", "central", "ida_dq"};
-    sol.jacobian = std::string(kJacobians[r.choice(*n, "solver.jacobian", kJacobians)]);
-  }
-  if (const toml::node* n = s->get("linear_solver")) {
-    static constexpr std::array<std::string_view, 2> kLinearSolvers{"dense", "klu"};
-    sol.linear_solver = std::string(kLinearSolvers[r.choice(*n, "solver.linear_solver", kLinearSolvers)]);
-    if (sol.linear_solver == "klu" && sol.jacobian == "ida_dq")
-      r.fail(*n, "'solver.linear_solver' = \"klu\" needs 'solver.jacobian' = \"exact\" or \"central\" (IDA's "
-                 "difference quotients fill dense matrices only)");
-  }
+  r.fail(at ? at.node()->source() : root.source(), fmt::format("'{}' = {}", p->scene_key, p->message));
 }
 
 // After everything else: whether an exact solution exists depends on the
@@ -564,8 +535,7 @@ void read_solver(const TomlReader& r, const toml::table& root, Scene& scene) {
 void read_reference_kind(const TomlReader& r, const toml::table& root, Scene& scene) {
   const toml::node* n = root.get("reference");
   if (!n) return;
-  static constexpr std::array<std::string_view, 3> kKinds{"auto", "exact", "tight"};
-  scene.reference = static_cast<ReferenceKind>(r.choice(*n, "reference", kKinds));
+  read_settings(r, root, "", scene);
   if (scene.reference != ReferenceKind::Exact) return;
   std::string why;
   if (exact::find_exact_solution(scene, &why)) return;
@@ -574,26 +544,7 @@ void read_reference_kind(const TomlReader& r, const toml::table& root, Scene& sc
                          why));
 }
 
-Scene read_scene(const TomlReader& r, const toml::table& root) {
-  Scene scene;
-  scene.source = r.file();
-  if (root.empty())
-    r.fail(root.source(), "the scene is empty (nothing but whitespace or comments); a scene needs "
-                          "schema_version = 1 and the tables [body], [initial] and [time] (see "
-                          "docs/scene_format.md and problems/*.toml)");
-
-  // The version first: a file of another version should fail on that, not on
-  // the keys it renamed.
-  // (Unless it is missing: then a misspelt key is the likelier cause.)
-  if (!root.get("schema_version")) r.check_keys(root, "", kRootKeys, kAllSections);
-  const toml::node& ver = r.required(root, "", "schema_version", "schema_version = 1");
-  const long long version = r.integer(ver, "schema_version");
-  if (version != kSchemaVersion)
-    r.fail(ver, fmt::format("unsupported schema_version {}; this version of rigidae reads "
-                            "schema_version = {}",
-                            version, kSchemaVersion));
-  r.check_keys(root, "", kRootKeys, kAllSections);
-
+void read_scene_name_impl(const TomlReader& r, const toml::table& root, Scene& scene) {
   scene.name = std::filesystem::path(r.file()).stem().string();
   if (const toml::node* n = root.get("name")) {
     scene.name = r.string(*n, "name");
@@ -608,6 +559,33 @@ Scene read_scene(const TomlReader& r, const toml::table& root) {
                              printable(scene.name), kMaxNameBytes));
   }
   if (const toml::node* n = root.get("description")) scene.description = r.string(*n, "description");
+}
+
+Scene read_scene(const TomlReader& r, const toml::table& root) {
+  Scene scene;
+  scene.source = r.file();
+  if (root.empty())
+    r.fail(root.source(), "the scene is empty (nothing but whitespace or comments); a scene needs "
+                          "schema_version = 1 and the tables [body], [initial] and [time] (see "
+                          "docs/scene_format.md and problems/*.toml)");
+
+  // The version first: a file of another version should fail on that, not on
+  // the keys it renamed.
+  // (Unless it is missing: then a misspelt key is the likelier cause -- but
+  // not in a file of bodies and joints, whose keys are schema 2's.)
+  const bool has_bodies = root.get("bodies") || root.get("joints");
+  if (!root.get("schema_version") && !has_bodies) r.check_keys(root, "", kRootKeys, schema().sections);
+  const toml::node& ver =
+      r.required(root, "", "schema_version",
+                 has_bodies ? "schema_version = 2 for a scene of [[bodies]] and [[joints]]" : "schema_version = 1");
+  const long long version = r.integer(ver, "schema_version");
+  if (version == kMultibodySchemaVersion) return detail::read_multibody_scene(r, root);
+  if (version != kSchemaVersion)
+    r.fail(ver, fmt::format("unsupported schema_version {}; this version of rigidae reads "
+                            "schema_version = {} (one body) or {} (bodies and joints)",
+                            version, kSchemaVersion, kMultibodySchemaVersion));
+  r.check_keys(root, "", kRootKeys, schema().sections);
+  read_scene_name_impl(r, root, scene);
 
   const InertiaSource inertia = read_body(r, root, scene);
   read_support(r, root, scene);
@@ -617,6 +595,7 @@ Scene read_scene(const TomlReader& r, const toml::table& root) {
   read_time(r, root, scene);
   read_formulation(r, root, scene);
   read_solver(r, root, scene);
+  check_settings_together(r, root, scene);
   read_reference_kind(r, root, scene);
   return scene;
 }
@@ -660,10 +639,44 @@ std::string explain_parse_error(std::string_view text, const toml::parse_error& 
     msg += fmt::format(" (the character there is U+{:04X}, not ASCII: keys without quotes, numbers, '=' and "
                        "the spaces between them must be ASCII; look for a look-alike letter, digit or space)",
                        cp);
+  msg += io::parse_error_hint(text, e.description(), e.source().begin.line);  // JSON look-alikes
   return msg;
 }
 
 }  // namespace
+
+// The shared readers (scene_sections.hpp), for the schema-2 loader.
+namespace detail {
+std::span<const SectionKeys> shared_sections() { return shared_sections_impl(); }
+void read_scene_name(const TomlReader& r, const toml::table& root, Scene& scene) {
+  read_scene_name_impl(r, root, scene);
+}
+void read_gravity(const TomlReader& r, const toml::table& root, Scene& scene) { io::read_gravity(r, root, scene); }
+void read_time(const TomlReader& r, const toml::table& root, Scene& scene) { io::read_time(r, root, scene); }
+void read_formulation(const TomlReader& r, const toml::table& root, Scene& scene) {
+  io::read_formulation(r, root, scene);
+}
+void read_solver(const TomlReader& r, const toml::table& root, Scene& scene) { io::read_solver(r, root, scene); }
+void read_top_level_settings(const TomlReader& r, const toml::table& root, Scene& scene) {
+  read_settings(r, root, "", scene);
+}
+void check_settings_together(const TomlReader& r, const toml::table& root, const Scene& scene) {
+  io::check_settings_together(r, root, scene);
+}
+MassInertia read_mass_inertia(const TomlReader& r, const toml::table& body, std::string_view table,
+                              std::string_view prefix) {
+  return read_mass_inertia_impl(r, body, table, prefix);
+}
+void check_possible_moments(const TomlReader& r, const toml::node& node, std::string_view name,
+                            const Mat3& inertia) {
+  check_possible_moments_impl(r, node, name, inertia);
+}
+std::optional<Mat3> read_orientation(const TomlReader& r, const toml::table& tbl, std::string_view table,
+                                     std::string_view prefix, std::span<const SectionKeys> schema,
+                                     bool required) {
+  return read_orientation_impl(r, tbl, table, prefix, schema, required);
+}
+}  // namespace detail
 
 Scene parse_scene(const std::string& text, const std::string& source_name) {
   const TomlReader reader(source_name);

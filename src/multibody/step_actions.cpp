@@ -39,11 +39,19 @@ bool MultibodyProblem::change_charts(double t, Eigen::VectorXd& y, Eigen::Vector
     const double margin = b.rep->chart_margin(q);
     // At a root the margin equals the threshold to the root finder's tolerance.
     if (margin > switch_threshold_ * (at_root ? 1.001 : 1.0)) continue;
+    const int best = b.rep->most_regular_chart(q);
+    if (best == b.rep->chart()) continue;
     const std::string from = b.rep->chart_name();
-    if (!b.rep->change_chart(q, v)) continue;
+    // Through the physical state: orientation and body angular velocity are
+    // the same in every chart; the body's representation becomes the new chart.
+    std::unique_ptr<Representation> next = b.rep->in_chart(best);
+    VecQ q_new;
+    VecV v_new;
+    next->from_physical(b.rep->placement(q), b.rep->body_angular_velocity(q, v), q_new, v_new);
+    b.rep = std::move(next);
     b.map->set_sequence(so3::parse_euler_sequence(b.rep->chart_name(), false));
-    y.segment(qo, b.nqr) = q;
-    y.segment(vo, b.nvr) = v;
+    y.segment(qo, b.nqr) = q_new;
+    y.segment(vo, b.nvr) = v_new;
     EventNote note;
     note.t = t;
     note.what = "chart_switch";

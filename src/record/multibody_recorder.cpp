@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <iterator>
 #include <cmath>
 
 namespace rigidae {
@@ -60,21 +61,22 @@ void MultibodyRecorder::on_step(double t, double h, int order, const Eigen::Vect
   max_drift_velocity_ = std::max(max_drift_velocity_, vel);
   max_energy_error_ = std::max(max_energy_error_, std::abs(err));
   last_energy_ = H;
-  fmt::print(steps_.file(), "{},{},{},{},{},{},{}\n", t, h, order, pos, vel, H, err);
+  steps_.file().write(fmt::format("{},{},{},{},{},{},{}\n", t, h, order, pos, vel, H, err));
 }
 
 void MultibodyRecorder::on_output(double t, const Eigen::VectorXd& y) {
   problem_.output_row(y.data(), row_.data());
   if (!have_H0_) H0_ = row_[energy_column_], have_H0_ = true;
-  std::FILE* f = trajectory_.file();
-  fmt::print(f, "{}", t);
-  for (double v : row_) fmt::print(f, ",{}", v);
-  std::fputc('\n', f);
+  fmt::memory_buffer line;
+  fmt::format_to(std::back_inserter(line), "{}", t);
+  for (double v : row_) fmt::format_to(std::back_inserter(line), ",{}", v);
+  line.push_back('\n');
+  trajectory_.file().write(line.data(), line.size());
 }
 
 void MultibodyRecorder::on_event(const EventNote& n) {
-  fmt::print(events_.file(), "{},{},{},{},{},{},{},{}\n", n.t, n.what, n.body, n.from, n.to, n.margin,
-             n.drift_position, n.drift_velocity);
+  events_.file().write(fmt::format("{},{},{},{},{},{},{},{}\n", n.t, n.what, n.body, n.from, n.to, n.margin,
+             n.drift_position, n.drift_velocity));
 }
 
 void MultibodyRecorder::flush() {

@@ -15,8 +15,8 @@ Observer::Observer(const DaeSystem& dae, const Scene& scene) : dae_(dae) {
   momentum_scale_ = L0 > 0 ? L0 : 1.0;
 }
 
-Observation Observer::observe(double t, const Eigen::VectorXd& y) {
-  const Representation& rep = dae_.representation();
+Observation Observer::observe(double t, const Eigen::VectorXd& y, int chart) {
+  const Representation& rep = dae_.representation(chart);
   const RigidBodyModel& b = dae_.body();
   const VecQ q = dae_.coordinates(y.data());
   const VecV v = dae_.velocities(y.data());
@@ -27,7 +27,7 @@ Observation Observer::observe(double t, const Eigen::VectorXd& y) {
   if (o.q_WB.dot(last_q_) < 0) o.q_WB = -o.q_WB;
   last_q_ = o.q_WB;
   o.omega_B = rep.body_angular_velocity(q, v);
-  o.drift = dae_.drift(t, y.data());
+  o.drift = dae_.drift(chart, t, y.data());
   const UnknownLayout& lay = dae_.layout();
   o.multipliers = y.segment(lay.lambda_offset(), lay.n_lambda + lay.n_mu);
 

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "rigidae/core/error.hpp"
+#include "rigidae/record/columns.hpp"
 
 namespace rigidae {
 
@@ -39,7 +40,7 @@ GridTrajectory read_trajectory_csv(const std::filesystem::path& csv) {
   GridTrajectory g;
   std::vector<std::size_t> c_mult;
   for (std::size_t k = 0; k < header.size(); ++k)
-    if (header[k].rfind("lambda_", 0) == 0 || header[k].rfind("mu_", 0) == 0) {
+    if (columns::is_multiplier(header[k])) {
       g.multiplier_names.push_back(header[k]);
       c_mult.push_back(k);
     }

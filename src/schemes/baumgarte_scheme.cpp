@@ -25,6 +25,7 @@ class BaumgarteScheme final : public ConstraintScheme {
   std::string name() const override { return "baumgarte"; }
   UnknownLayout layout(const Representation& rep) const override { return single_level_layout(rep); }
   bool suppress_multiplier_error_test() const override { return true; }
+  std::vector<SchemeParameter> parameters() const override { return {{"a", a_}, {"b", b_}}; }
   std::string constrained_note(const Representation& rep) const override {
     if (rep.constraint_kind() == ConstraintKind::Kinematic)
       return fmt::format("first-order feedback Phi' + a Phi = 0 with a = {:g} 1/s (b is not used in the Euler form)",

@@ -27,6 +27,7 @@ class ProjectionScheme final : public ConstraintScheme {
   UnknownLayout layout(const Representation& rep) const override { return acceleration_level_layout(rep); }
   bool suppress_multiplier_error_test() const override { return true; }
   ProjectionPolicy projection() const override { return policy_; }
+  std::vector<SchemeParameter> parameters() const override { return {{"threshold", policy_.threshold}}; }
   std::string constrained_note(const Representation& /*rep*/) const override {
     const std::string when = policy_.every_step ? "after every step"
                                                 : fmt::format("when the drift exceeds {:g}", policy_.threshold);

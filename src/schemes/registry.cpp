@@ -16,14 +16,14 @@ struct SchemeEntry {
 
 // In the order a comparison lists them: from the raw index-3 form down the
 // index hierarchy, then the stabilised forms.
-constexpr std::array<SchemeEntry, 6> kSchemes{{
+constexpr SchemeEntry kSchemes[] = {
     {"index3", schemes::make_index3},
     {"index2", schemes::make_index2},
     {"index1", schemes::make_index1},
     {"baumgarte", schemes::make_baumgarte},
     {"ggl", schemes::make_ggl},
     {"projection", schemes::make_projection},
-}};
+};
 
 }  // namespace
 

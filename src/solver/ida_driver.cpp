@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <ida/ida.h>
 #include <nvector/nvector_serial.h>
+#include <sundials/sundials_config.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunlinsol/sunlinsol_klu.h>
@@ -18,10 +19,13 @@
 
 #include "central_differences.hpp"
 #include "rigidae/core/error.hpp"
+#include "rigidae/solver/version.hpp"
 
 namespace rigidae {
 
 std::atomic<bool> g_interrupt_requested{false};
+
+std::string sundials_version() { return SUNDIALS_VERSION; }
 
 std::string to_string(RunStatus s) {
   switch (s) {
@@ -155,6 +159,23 @@ int event_callback(realtype t, N_Vector yy, N_Vector /*yp*/, realtype* g, void* 
   }
 }
 
+// IDA's own messages. Left alone, IDA prints "[IDA ERROR] ..." to stderr
+// beside rigidae's explanation; instead the handler keeps the latest text
+// (IDA calls it synchronously, on the thread inside IDASolve) and it is
+// folded into rigidae's failure message.
+thread_local std::string t_ida_said;
+
+void keep_ida_message(int code, const char* /*module*/, const char* function, char* msg, void* /*data*/) {
+  try {
+    t_ida_said = fmt::format("{}{}: {}", code == IDA_WARNING ? "warning in " : "", function ? function : "IDA",
+                             msg ? msg : "");
+  } catch (...) {  // nothing may be thrown through C
+  }
+}
+
+// " (IDA: ...)" when IDA said something, else nothing.
+std::string what_ida_said() { return t_ida_said.empty() ? "" : fmt::format(" (IDA: {})", t_ida_said); }
+
 // IDA's name for a return flag. IDAGetReturnFlagName mallocs the string and
 // leaves freeing it to the caller (found by LeakSanitizer, tools/sanitize.sh).
 std::string flag_name(int flag) {
@@ -165,7 +186,7 @@ std::string flag_name(int flag) {
 }
 
 void check(int flag, const char* what) {
-  if (flag < 0) throw SolverError(fmt::format("{} failed: {}", what, flag_name(flag)));
+  if (flag < 0) throw SolverError(fmt::format("{} failed: {}{}", what, flag_name(flag), what_ida_said()));
 }
 
 void add_counters(void* mem, IdaCounters& c) {
@@ -313,6 +334,8 @@ void IdaRun::start() {
   }
 
   void* mem = ida_.mem;
+  t_ida_said.clear();
+  check(IDASetErrHandlerFn(mem, keep_ida_message, nullptr), "IDASetErrHandlerFn");
   check(IDAInit(mem, residual_callback, t_, ida_.y, ida_.yp), "IDAInit");
   check(IDASVtolerances(mem, opt_.rtol, ida_.atol), "IDASVtolerances");
   check(IDASetUserData(mem, &data_), "IDASetUserData");
@@ -364,8 +387,8 @@ bool IdaRun::advance_one_step() {
     IDAGetCurrentStep(ida_.mem, &h);
     IDAGetCurrentTime(ida_.mem, &tcur);
     t_ = tcur;
-    fail(fmt::format("IDA failed with {} at t = {:.9g} s, step size {:.3g} s: {}", flag_name(flag_), tcur, h,
-                     explain_failure(flag_)));
+    fail(fmt::format("IDA failed with {} at t = {:.9g} s, step size {:.3g} s: {}{}", flag_name(flag_), tcur, h,
+                     explain_failure(flag_), what_ida_said()));
     return false;
   }
   emit_grid_until(t_);

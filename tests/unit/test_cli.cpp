@@ -37,7 +37,7 @@ TEST_CASE("cli: solve writes the three outputs and exits 0") {
 TEST_CASE("cli: unknown option values are errors that list the valid ones") {
   Result r = run_cli("solve " + kScene + " --coordinates rodrigues");
   CHECK(r.exit_code == 2);
-  CHECK(r.output.find("euler, quaternion, linear") != std::string::npos);
+  CHECK(r.output.find("'euler', 'quaternion' or 'linear'") != std::string::npos);
   r = run_cli("solve " + kScene + " --scheme magic");
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("ggl") != std::string::npos);

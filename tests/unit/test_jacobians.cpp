@@ -52,7 +52,7 @@ struct MatrixPair {
 // are ~1e-12 of a row's scale where the derivatives vary on a scale of 1,
 // and grow like (d / margin)^4 near an Euler-angle singularity.
 // Near a singularity the step shrinks with `scale` (the margin).
-Eigen::MatrixXd richardson_matrix(const DaeSystem& dae, double t, double cj, const Eigen::VectorXd& y,
+Eigen::MatrixXd richardson_matrix(const DaeSystem& dae, int chart, double t, double cj, const Eigen::VectorXd& y,
                                   const Eigen::VectorXd& yp, double scale) {
   const int n = dae.size();
   Eigen::MatrixXd J(n, n);
@@ -60,9 +60,9 @@ Eigen::MatrixXd richardson_matrix(const DaeSystem& dae, double t, double cj, con
   const auto difference = [&](Eigen::VectorXd& x, int j, double d, bool in_yp) {
     const double xj = x(j);
     x(j) = xj + d;
-    dae.residual(t, in_yp ? y.data() : x.data(), in_yp ? x.data() : yp.data(), Fp.data());
+    dae.residual(chart, t, in_yp ? y.data() : x.data(), in_yp ? x.data() : yp.data(), Fp.data());
     x(j) = xj - d;
-    dae.residual(t, in_yp ? y.data() : x.data(), in_yp ? x.data() : yp.data(), Fm.data());
+    dae.residual(chart, t, in_yp ? y.data() : x.data(), in_yp ? x.data() : yp.data(), Fm.data());
     x(j) = xj;
     return Eigen::VectorXd((Fp - Fm) / (2.0 * d));
   };
@@ -76,11 +76,11 @@ Eigen::MatrixXd richardson_matrix(const DaeSystem& dae, double t, double cj, con
   return J;
 }
 
-MatrixPair both_matrices(const DaeSystem& dae, double t, double cj, const Eigen::VectorXd& y,
+MatrixPair both_matrices(const DaeSystem& dae, int chart, double t, double cj, const Eigen::VectorXd& y,
                          const Eigen::VectorXd& yp, double scale) {
   const int n = dae.size();
-  MatrixPair m{Eigen::MatrixXd(n, n), richardson_matrix(dae, t, cj, y, yp, scale)};
-  dae.iteration_matrix(t, cj, y.data(), yp.data(), m.exact.data());
+  MatrixPair m{Eigen::MatrixXd(n, n), richardson_matrix(dae, chart, t, cj, y, yp, scale)};
+  dae.iteration_matrix(chart, t, cj, y.data(), yp.data(), m.exact.data());
   return m;
 }
 
@@ -95,7 +95,7 @@ constexpr double kMatrixTolerance = 1e-8;
 // times `scale` (off the manifold and inconsistent), at several cj.
 void check_states(DaeSystem& dae, const Scene& s, std::mt19937& rng, double scale, double& worst) {
   Eigen::VectorXd y0, yp0;
-  dae.consistent_state(0.0, s.R0_WB, s.omega0_B, y0, yp0);
+  dae.consistent_state(dae.start_chart(), 0.0, s.R0_WB, s.omega0_B, y0, yp0);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const int n = dae.size();
   for (int k = 0; k < 4; ++k) {
@@ -110,7 +110,7 @@ void check_states(DaeSystem& dae, const Scene& s, std::mt19937& rng, double scal
     for (const double cj : {0.0, 3.7, 2.5e3}) {
       CAPTURE(k);
       CAPTURE(cj);
-      const MatrixPair m = both_matrices(dae, 0.3, cj, y, yp, scale);
+      const MatrixPair m = both_matrices(dae, dae.start_chart(), 0.3, cj, y, yp, scale);
       const double d = row_relative_difference(m.exact, m.central);
       worst = std::max(worst, d);
       CHECK(d < kMatrixTolerance);
@@ -121,15 +121,15 @@ void check_states(DaeSystem& dae, const Scene& s, std::mt19937& rng, double scal
 // Records orientation (as a quaternion) on the output grid.
 class OrientationSink final : public StepSink {
  public:
-  explicit OrientationSink(const DaeSystem& dae) : dae_(dae) {}
+  explicit OrientationSink(const SingleBodyProblem& problem) : problem_(problem) {}
   void on_step(double, double, int, const Eigen::VectorXd&) override {}
   void on_output(double, const Eigen::VectorXd& y) override {
-    q_.push_back(dae_.representation().orientation(dae_.coordinates(y.data())));
+    q_.push_back(problem_.representation().orientation(problem_.system().coordinates(y.data())));
   }
   const std::vector<Vec4>& orientations() const { return q_; }
 
  private:
-  const DaeSystem& dae_;
+  const SingleBodyProblem& problem_;
   std::vector<Vec4> q_;
 };
 
@@ -146,9 +146,9 @@ Run run(Scene s, const std::string& jacobian, const std::string& linear_solver =
   s.solver.jacobian = jacobian;
   s.solver.linear_solver = linear_solver;
   const std::unique_ptr<DaeSystem> dae = assemble_dae(s);
-  OrientationSink sink(*dae);
-  Run r;
   SingleBodyProblem problem(*dae, s.formulation.euler, s.R0_WB, s.omega0_B, s.source);
+  OrientationSink sink(problem);
+  Run r;
   r.result = integrate(problem, s.solver, s.time, sink);
   r.orientations = sink.orientations();
   return r;
@@ -218,22 +218,21 @@ TEST_CASE("exact iteration matrix = central differences: Euler angles near and a
         CAPTURE(seq);
         CAPTURE(margin);
         Eigen::VectorXd y, yp;
-        dae->consistent_state(0.0, s.R0_WB, s.omega0_B, y, yp);
-        REQUIRE(dae->representation().chart_margin(dae->coordinates(y.data())) == doctest::Approx(margin));
+        const int chart = dae->start_chart();
+        dae->consistent_state(chart, 0.0, s.R0_WB, s.omega0_B, y, yp);
+        REQUIRE(dae->representation(chart).chart_margin(dae->coordinates(y.data())) == doctest::Approx(margin));
         // Moves and difference steps in proportion to the margin.
         check_states(*dae, s, rng, margin, worst);
 
         // Switch to the most regular chart, then the matrices again, there.
-        VecQ q = dae->coordinates(y.data());
-        VecV v = dae->velocities(y.data());
-        const std::string before = dae->representation().chart_name();
-        REQUIRE(dae->representation().change_chart(q, v));
-        CHECK(dae->representation().chart_name() != before);
-        y.head(3) = q;
-        y.segment(3, 3) = v;
-        dae->make_consistent(0.0, y, yp);
+        const Mat3 R_before = dae->representation(chart).placement(dae->coordinates(y.data()));
+        const int other = dae->change_chart(chart, 0.0, y, yp);
+        REQUIRE(other != chart);
+        CHECK(dae->representation(other).chart_name() != dae->representation(chart).chart_name());
+        // The same orientation in the new chart.
+        CHECK((dae->representation(other).placement(dae->coordinates(y.data())) - R_before).norm() < 1e-12);
         for (const double cj : {0.0, 40.0}) {
-          const MatrixPair m = both_matrices(*dae, 0.0, cj, y, yp, margin);
+          const MatrixPair m = both_matrices(*dae, other, 0.0, cj, y, yp, margin);
           const double d = row_relative_difference(m.exact, m.central);
           worst = std::max(worst, d);
           CHECK(d < kMatrixTolerance);
@@ -249,13 +248,16 @@ TEST_CASE("residual and exact iteration matrix allocate nothing") {
         const Scene s = test::asymmetric_top_scene(c, e, scheme);
         const std::unique_ptr<DaeSystem> dae = assemble_dae(s);
         Eigen::VectorXd y, yp;
-        dae->consistent_state(0.0, s.R0_WB, s.omega0_B, y, yp);
+        const int chart = dae->start_chart();
+        dae->consistent_state(chart, 0.0, s.R0_WB, s.omega0_B, y, yp);
         const int n = dae->size();
         Eigen::VectorXd F(n);
         Eigen::MatrixXd J(n, n);
+        Eigen::VectorXd values(dae->sparsity().nnz());
         test::start_counting_allocations();
-        dae->residual(0.1, y.data(), yp.data(), F.data());
-        dae->iteration_matrix(0.1, 50.0, y.data(), yp.data(), J.data());
+        dae->residual(chart, 0.1, y.data(), yp.data(), F.data());
+        dae->iteration_matrix(chart, 0.1, 50.0, y.data(), yp.data(), J.data());
+        dae->iteration_matrix_sparse(chart, 0.1, 50.0, y.data(), yp.data(), values.data());
         const long allocations = test::stop_counting_allocations();
         CAPTURE(dae->representation().name());
         CAPTURE(scheme);
@@ -336,9 +338,10 @@ TEST_CASE("the sparse pattern holds every nonzero of the exact iteration matrix"
         const std::unique_ptr<DaeSystem> dae = assemble_dae(s);
         const int n = dae->size();
         Eigen::VectorXd y, yp;
-        dae->consistent_state(0.0, s.R0_WB, s.omega0_B, y, yp);
+        const int chart = dae->start_chart();
+        dae->consistent_state(chart, 0.0, s.R0_WB, s.omega0_B, y, yp);
         for (int i = 0; i < n; ++i) y(i) += 0.1 * u(rng), yp(i) += 0.1 * u(rng);
-        const Eigen::MatrixXd J = richardson_matrix(*dae, 0.0, 7.0, y, yp, 1.0);
+        const Eigen::MatrixXd J = richardson_matrix(*dae, chart, 0.0, 7.0, y, yp, 1.0);
         CAPTURE(dae->representation().name());
         CAPTURE(scheme);
         int outside = 0;

@@ -73,7 +73,8 @@ TEST_CASE("multibody heavy top: the start's acceleration is the pivoted model's,
       const Scene top = test::heavy_top_scene(Coordinates::Quaternion, Equations::Euler, "ggl");
       const std::unique_ptr<DaeSystem> dae = assemble_dae(top);
       Eigen::VectorXd y1, yp1;
-      dae->consistent_state(0.0, top.R0_WB, top.omega0_B, y1, yp1);
+      // A quaternion has one chart (number 0).
+      dae->consistent_state(0, 0.0, top.R0_WB, top.omega0_B, y1, yp1);
       const Vec3 w = top.omega0_B, wdot = yp1.segment<3>(dae->layout().v_offset()), cB(0, 1, 0);
       const Vec3 a_pivoted = wdot.cross(cB) + w.cross(w.cross(cB));
       CHECK((a_c - a_pivoted).norm() < 1e-9 * a_pivoted.norm());

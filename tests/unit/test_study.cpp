@@ -237,7 +237,7 @@ TEST_CASE("study files: errors name the file, line and key, and what would be va
   std::string m = message(head + "[grid]\nrtols = [1e-6]\n");
   CHECK(m.find("bad.toml:4:1: error: unknown key 'rtols' in [grid]; did you mean 'rtol'?") != std::string::npos);
   m = message(head + "[grid]\nrtol = [1e-6, 2.0]\n");
-  CHECK(m.find("bad.toml:4:15: error: 'grid.rtol[1]' = 2 must be in [1e-14, 1)") != std::string::npos);
+  CHECK(m.find("bad.toml:4:15: error: 'grid.rtol[1]' = 2 must lie in [1e-14, 1)") != std::string::npos);
   m = message(head + "[grid]\nrtol = [1e-6]\ncombinations = [\"quaternoin/*/ggl\"]\n");
   CHECK(m.find("bad.toml:5:17: error: 'grid.combinations[0]' = \"quaternoin/*/ggl\" matches no combination") !=
         std::string::npos);
@@ -247,7 +247,7 @@ TEST_CASE("study files: errors name the file, line and key, and what would be va
   m = message(head + "[grid]\nrtol = [1e-6]\ncombinations = [\"ggl\"]\nskip = [\"quaternion\", \"linear\"]\n");
   CHECK(m.find("bad.toml:3:1: error: [grid] combinations and skip leave no combination to run") != std::string::npos);
   m = message(head + "reference_rtol = 1e-3\n[grid]\nrtol = [1e-6]\n");
-  CHECK(m.find("bad.toml:3:18: error: 'reference_rtol' = 0.001 must be in [1e-14, 1e-06]") != std::string::npos);
+  CHECK(m.find("bad.toml:3:18: error: 'reference_rtol' = 0.001 must be <= 1e-06, the smallest grid.rtol") != std::string::npos);
   std::ofstream(dir / "slash.toml") << std::string(kFreeBody).replace(std::string(kFreeBody).find("free_body_short"), 15, "a,b");
   m = message("schema_version = 1\nscenes = [\"slash.toml\"]\n[grid]\nrtol = [1e-6]\n");
   CHECK(m.find("bad.toml:2:11: error: scene") != std::string::npos);

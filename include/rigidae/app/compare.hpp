@@ -45,6 +45,9 @@ struct CompareOptions {
   std::optional<double> reference_rtol;  // default: default_reference_rtol(rtol)
   // "auto", "exact" or "tight" (see make_reference); empty: the scene's choice.
   std::string reference;
+  // Keep each run's steps.csv (and the reference's); by default only the
+  // summaries and output grids stay (a full compare wrote 152 MB of steps).
+  bool keep_steps = false;
 };
 
 struct CompareRow {

@@ -5,8 +5,10 @@
 #include <string>
 #include <vector>
 
+#include "rigidae/app/accuracy_check.hpp"
 #include "rigidae/model/scene.hpp"
 #include "rigidae/record/recorder.hpp"
+#include "rigidae/schemes/scheme.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 
 namespace rigidae {
@@ -18,6 +20,9 @@ struct SolveOutcome {
   std::filesystem::path out_dir;
   std::string representation, scheme, note;
   std::vector<std::string> multiplier_names;
+  InvariantDrifts drifts;                 // the accuracy check's measures (app/accuracy_check.hpp)
+  std::vector<AccuracyWarning> warnings;  // those past their limits
+  std::vector<SchemeParameter> scheme_parameters;  // as the scheme used them
 };
 
 // Writes steps.csv, trajectory.csv, events.csv and summary.json into

@@ -84,6 +84,7 @@ struct StudyProgress {
 struct StudyRunOptions {
   std::filesystem::path out;
   std::function<void(const StudyProgress&)> progress;  // after each run (may be empty)
+  bool keep_steps = false;  // keep each run's steps.csv (nothing of a study reads them)
 };
 
 // Runs every incomplete run of `runs` (skipping complete ones). Returns false

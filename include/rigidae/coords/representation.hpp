@@ -23,6 +23,7 @@
 #include "rigidae/core/types.hpp"
 #include "rigidae/model/rigid_body.hpp"
 #include "rigidae/model/scene.hpp"
+#include "rigidae/so3/euler_sequence.hpp"
 
 namespace rigidae {
 
@@ -100,19 +101,36 @@ class Representation {
   // quaternion; the orthogonal polar factor of R). No-op without constraints.
   virtual void project_coordinates(VecQ& /*q*/) const {}
 
-  // Charts. Representations with singular charts (Euler angles) report a
-  // margin in [0, 1] (1 far from the singularity, 0 at it) and can re-express
-  // a state in the chart most regular there.
+  // Charts. A representation with singular charts (Euler angles) is one
+  // chart of a numbered family (chart() of chart_count()) and never changes:
+  // which chart a run is in is the run's state (dae/), not the
+  // representation's. It reports a margin in [0, 1] (1 far from the
+  // singularity, 0 at it), the chart most regular at an orientation, and
+  // builds the same representation in another chart of the family. A state
+  // moves between charts through the physical state:
+  //   other.from_physical(placement(q), body_angular_velocity(q, v), q', v').
+  virtual int chart_count() const { return 1; }
+  virtual int chart() const { return 0; }
   virtual bool has_charts() const { return false; }
   virtual double chart_margin(const VecQ& /*q*/) const { return 1.0; }
   virtual std::string chart_name() const { return {}; }
-  // Re-expresses (q, v) in the most regular chart at this orientation and
-  // makes it current. Returns false if the current chart is already the best.
-  virtual bool change_chart(VecQ& /*q*/, VecV& /*v*/) { return false; }
+  // The chart most regular at q's orientation (chart() when this one is).
+  virtual int most_regular_chart(const VecQ& /*q*/) const { return chart(); }
+  // This representation in chart `c` of the family (0 <= c < chart_count()).
+  virtual std::unique_ptr<Representation> in_chart(int c) const;
 };
 
-// Builds the representation a scene asks for (coordinates x equations).
-// Throws InputError for a combination that does not exist.
+// The registered representation by name ("quaternion/lagrange"), starting
+// in chart `start_chart` where it has charts (Euler angles). Throws
+// InputError naming the valid names for an unknown one.
+std::unique_ptr<Representation> make_representation(const std::string& name, const RigidBodyModel& body,
+                                                    const so3::EulerSequence& start_chart);
+// Every registered name, in the registry's order.
+std::vector<std::string> representation_names();
+// The registry name of a (coordinates, equations) pair.
+std::string representation_name(Coordinates c, Equations e);
+// The representation a scene's formulation names, in the chart it starts in
+// (the scene's sequence, or the most regular at the initial orientation).
 std::unique_ptr<Representation> make_representation(const Scene& scene, const RigidBodyModel& body);
 
 // Names for messages and reports.

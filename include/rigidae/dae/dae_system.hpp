@@ -22,28 +22,38 @@ struct ConstraintDrift {
   double velocity = 0.0;
 };
 
+// Immutable once built: the representation in each of its charts, the
+// scheme, the layout of unknowns and the sparse pattern. What a run changes
+// besides y is the chart its coordinates are written in (Euler angles: the
+// sequence), which the caller keeps (SingleBodyProblem) and passes in;
+// scratch lives on the stack of each call (fixed-size, no allocation).
 class DaeSystem {
  public:
   DaeSystem(const Scene& scene, std::unique_ptr<Representation> rep, std::unique_ptr<ConstraintScheme> scheme);
 
   const UnknownLayout& layout() const { return layout_; }
   int size() const { return layout_.size(); }
-  const Representation& representation() const { return *rep_; }
-  Representation& representation() { return *rep_; }
+  // The chart a run starts in.
+  int start_chart() const { return start_chart_; }
+  // The representation in chart c; representation() is the start chart's
+  // (names, sizes and constraint kind are the same in every chart).
+  const Representation& representation(int chart) const { return *charts_[static_cast<std::size_t>(chart)]; }
+  const Representation& representation() const { return representation(start_chart_); }
   const ConstraintScheme& scheme() const { return *scheme_; }
   const RigidBodyModel& body() const { return body_; }
 
-  // The hot path: F = F(t, y, y'); arrays of size size(). Allocates nothing.
-  void residual(double t, const double* y, const double* yp, double* F) const;
+  // The hot path: F = F(t, y, y') with q in chart `chart`; arrays of size
+  // size(). Allocates nothing.
+  void residual(int chart, double t, const double* y, const double* yp, double* F) const;
 
   // The iteration matrix dF/dy + cj dF/dy' (column-major n x n into J),
   // exact: the representation's term derivatives assembled by the scheme.
   // Allocates nothing.
-  void iteration_matrix(double t, double cj, const double* y, const double* yp, double* J) const;
-
+  void iteration_matrix(int chart, double t, double cj, const double* y, const double* yp, double* J) const;
   // The same matrix's values on sparsity()'s pattern, in its order: the
   // scheme writes straight into them (no dense n x n in between).
-  void iteration_matrix_sparse(double t, double cj, const double* y, const double* yp, double* values) const;
+  void iteration_matrix_sparse(int chart, double t, double cj, const double* y, const double* yp,
+                               double* values) const;
 
   // Whether entry (row, col) of the iteration matrix can be nonzero in any
   // state: multipliers enter only through Phi_q^T mu (kinematic rows) and
@@ -55,10 +65,15 @@ class DaeSystem {
   const SparsityPattern& sparsity() const { return pattern_; }
 
   // A consistent (y, y') at t for a physical state; see ConstraintScheme::consistent_start.
-  void consistent_state(double t, const Mat3& R_WB, const Vec3& omega_B, Eigen::VectorXd& y,
+  void consistent_state(int chart, double t, const Mat3& R_WB, const Vec3& omega_B, Eigen::VectorXd& y,
                         Eigen::VectorXd& yp) const;
   // Keeps q, v of y and recomputes the multipliers and y' consistently.
-  void make_consistent(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) const;
+  void make_consistent(int chart, double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) const;
+
+  // Re-expresses (y, y') at t in the chart most regular there and makes it
+  // consistent. Returns that chart (`chart` itself, y untouched, when it
+  // already is the most regular).
+  int change_chart(int chart, double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) const;
 
   // IDA's id vector: 1 for differential unknowns (q, v), 0 for algebraic
   // ones (multipliers). IDA reads it only to drop id-0 components from the
@@ -68,30 +83,29 @@ class DaeSystem {
   // Names of the multipliers in y's order, e.g. "lambda_norm", "mu_c12".
   std::vector<std::string> multiplier_names() const;
 
-  ConstraintDrift drift(double t, const double* y) const;
+  ConstraintDrift drift(int chart, double t, const double* y) const;
 
   // Maps q of y onto the constraint manifold and v onto G(q) v = 0 in the
   // metric of M (Force kind), then makes (y, y') consistent at t.
-  void project(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) const;
+  void project(int chart, double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) const;
 
   // Views of q and v inside y.
   VecQ coordinates(const double* y) const;
   VecV velocities(const double* y) const;
 
  private:
+  // The scheme's assembly into a view, zeroed by the caller.
+  void assemble_iteration_matrix(int chart, double t, double cj, const double* y, const double* yp,
+                                 IterationMatrixView& J) const;
+
   RigidBodyModel body_;
-  std::unique_ptr<Representation> rep_;
+  std::vector<std::unique_ptr<const Representation>> charts_;  // chart_count() of them
+  int start_chart_ = 0;
   std::unique_ptr<ConstraintScheme> scheme_;
   UnknownLayout layout_;
-  mutable StandardTerms terms_;  // scratch for the hot path
-  mutable TermDerivatives derivs_;
   SparsityPattern pattern_;
   // Where G^T's and Phi_q^T's blocks start in the sparse values.
   std::int64_t lambda_values_ = 0, mu_values_ = 0;
-
-  // The scheme's assembly into a view, zeroed by the caller.
-  void assemble_iteration_matrix(double t, double cj, const double* y, const double* yp,
-                                 IterationMatrixView& J) const;
 };
 
 // Builds the DAE a scene's formulation names (InputError if unknown).

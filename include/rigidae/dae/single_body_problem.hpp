@@ -18,14 +18,19 @@ namespace rigidae {
 class SingleBodyProblem final : public DaeProblem {
  public:
   // `source` names the scene in messages (its file, or "" when built in code).
-  SingleBodyProblem(DaeSystem& dae, const EulerChartSpec& charts, const Mat3& R0_WB, const Vec3& omega0_B,
+  SingleBodyProblem(const DaeSystem& dae, const EulerChartSpec& charts, const Mat3& R0_WB, const Vec3& omega0_B,
                     std::string source);
+
+  // The chart the state is written in now, and the representation in it.
+  int chart() const { return chart_; }
+  const DaeSystem& system() const { return dae_; }
+  const Representation& representation() const { return dae_.representation(chart_); }
 
   int size() const override { return dae_.size(); }
   int state_size() const override { return dae_.layout().nq + dae_.layout().nv; }
   void initial_state(double t0, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
   void make_consistent(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) override {
-    dae_.make_consistent(t, y, yp);
+    dae_.make_consistent(chart_, t, y, yp);
   }
   void differential_id(Eigen::Ref<Eigen::VectorXd> id) const override { id = dae_.differential_id(); }
   bool suppress_algebraic_error_test() const override { return dae_.scheme().suppress_multiplier_error_test(); }
@@ -34,11 +39,11 @@ class SingleBodyProblem final : public DaeProblem {
 
   bool residual(double t, const double* y, const double* yp, double* F) override;
   void iteration_matrix_dense(double t, double cj, const double* y, const double* yp, double* J) override {
-    dae_.iteration_matrix(t, cj, y, yp, J);
+    dae_.iteration_matrix(chart_, t, cj, y, yp, J);
   }
   const SparsityPattern& sparsity() const override { return dae_.sparsity(); }
   void iteration_matrix_sparse(double t, double cj, const double* y, const double* yp, double* values) override {
-    dae_.iteration_matrix_sparse(t, cj, y, yp, values);
+    dae_.iteration_matrix_sparse(chart_, t, cj, y, yp, values);
   }
 
   // One root function where the representation has charts: margin - threshold.
@@ -53,7 +58,8 @@ class SingleBodyProblem final : public DaeProblem {
   // consistent; notes the switch. False if the chart stayed.
   bool change_chart(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp);
 
-  DaeSystem& dae_;
+  const DaeSystem& dae_;
+  int chart_;  // the run's state besides y: the current chart
   EulerChartSpec charts_;
   Mat3 R0_WB_;
   Vec3 omega0_B_;

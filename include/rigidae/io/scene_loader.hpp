@@ -1,5 +1,6 @@
 #pragma once
-// Reading scene files (TOML, schema_version 1; format in docs/scene_format.md).
+// Reading scene files (TOML, schema_version 1: one body; 2: bodies and joints,
+// filling Scene::multibody; format in docs/scene_format.md).
 #include <string>
 
 #include "rigidae/model/scene.hpp"

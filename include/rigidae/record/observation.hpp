@@ -25,7 +25,8 @@ struct Observation {
 class Observer {
  public:
   Observer(const DaeSystem& dae, const Scene& scene);
-  Observation observe(double t, const Eigen::VectorXd& y);
+  // y with its coordinates in chart `chart` (see DaeSystem).
+  Observation observe(double t, const Eigen::VectorXd& y, int chart);
 
  private:
   const DaeSystem& dae_;

@@ -14,6 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "rigidae/io/checked_file.hpp"
+#include "rigidae/record/columns.hpp"
+#include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/record/observation.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 
@@ -29,37 +32,40 @@ struct RunExtremes {
   Observation last;  // at the last recorded step (or the start)
 };
 
+// A CSV file: units comment, header, then rows; every write checked
+// (io/checked_file.hpp), so a full disk ends the run with OutputError.
 class CsvStream {
  public:
   CsvStream(const std::filesystem::path& path, const std::string& units_comment, const std::string& header);
-  ~CsvStream();
-  CsvStream(const CsvStream&) = delete;
-  CsvStream& operator=(const CsvStream&) = delete;
-  std::FILE* file() { return f_; }
-  void flush();
+  CheckedStream& file() { return stream_; }
+  void flush() { stream_.flush(); }
+  void close() { stream_.close(); }
 
  private:
-  std::FILE* f_ = nullptr;
-  std::vector<char> buffer_;
+  CheckedStream stream_;
 };
 
 class RunRecorder final : public StepSink {
  public:
-  RunRecorder(const DaeSystem& dae, const Scene& scene, const std::filesystem::path& out_dir);
+  // Observes the problem's states in its current chart.
+  RunRecorder(const SingleBodyProblem& problem, const Scene& scene, const std::filesystem::path& out_dir);
 
   void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
   void on_output(double t, const Eigen::VectorXd& y) override;
   void on_event(const EventNote& note) override;
   void flush();
+  // Flushes, syncs and closes the three files; throws OutputError naming the
+  // first that fails (the others are still closed).
+  void close();
 
   const RunExtremes& extremes() const { return extremes_; }
   const std::vector<std::string>& multiplier_names() const { return multiplier_names_; }
 
  private:
-  // Appends o's columns to the row started in b, then writes the row.
-  void write_observation(std::FILE* f, const Observation& o, fmt::memory_buffer& b);
+  // One row of `file` from the table of columns (record/columns.hpp).
+  void write_row(CheckedStream& f, columns::File file, const columns::Sample& sample);
 
-  const DaeSystem& dae_;
+  const SingleBodyProblem& problem_;
   std::vector<std::string> multiplier_names_;
   bool with_chart_;
   Observer step_observer_, grid_observer_;

@@ -62,6 +62,12 @@ struct JacobianInputs {
   double cj;  // IDA's dF/dy' coefficient
 };
 
+// A number a scheme runs with, for reports (e.g. Baumgarte's gain "a", 1/s).
+struct SchemeParameter {
+  std::string name;
+  double value = 0.0;
+};
+
 class ConstraintScheme {
  public:
   virtual ~ConstraintScheme() = default;
@@ -73,6 +79,8 @@ class ConstraintScheme {
   virtual bool suppress_multiplier_error_test() const = 0;
   // True when the velocities must leave it too (index 3, where v is index 2).
   virtual bool suppress_velocity_error_test(const Representation& /*rep*/) const { return false; }
+  // The numbers this scheme runs with, as it uses them (defaults resolved).
+  virtual std::vector<SchemeParameter> parameters() const { return {}; }
   // Whether and when the driver projects the state onto the manifold.
   virtual ProjectionPolicy projection() const { return {}; }
   // A note for the report when the scheme does something unusual for this

@@ -1,0 +1,85 @@
+#pragma once
+// The accuracy check every run gets: the quantities the scene conserves,
+// measured at every step, against what the tolerance allows.
+//
+// A run can meet IDA's local error test at every step and still be wrong by
+// pi rad at the end (a body near its intermediate axis, where a small error
+// in energy or momentum moves every flip). Nothing in the run knows the true
+// solution, but the invariants are known: for a single rigid body under
+// gravity the energy E is conserved, so is the angular momentum L_W when no
+// torque acts (a free body about its centre of mass, or a top with g = 0 or
+// its centre of mass at the pivot), and else its component along gravity;
+// the constraints Phi(q) = 0 and d/dt Phi = 0 hold on the exact solution.
+//
+// Measures (all dimensionless, maxima over the accepted steps):
+//   energy                 |E - E0| / E_s,     E_s = T0 + m |g| |c|
+//   angular_momentum       |L_W - L_W0| / L_s, L_s = sqrt(2 J_max E_s)
+//   vertical_angular_momentum  |Lz - Lz0| / L_s   (when only Lz is conserved)
+//   constraint_position    |Phi(q)|            (Phi is dimensionless here)
+//   constraint_velocity    |dPhi/dt| / w_s,    w_s = sqrt(2 E_s / J_min)
+// E_s is the largest energy the motion can exchange between kinetic and
+// potential form (so a potential's arbitrary zero does not matter), L_s the
+// largest momentum that energy allows, w_s the largest angular speed.
+// The tolerance a measure is compared with is
+//   tau = rtol + atol / min(1, w_s),
+// the relative accuracy IDA's error test asks of the least well scaled
+// differential unknown (coordinates are O(1), angular velocities O(w_s)).
+// A measure above its limit gives a warning; the run's status is untouched.
+// Limits, for N accepted steps (accuracy_check.cpp says why):
+//   energy and momenta     2 tau sqrt(N)   (a random walk of per-step errors)
+//   constraints            10 tau N        (10 tau of drift per step) Scenes with several bodies
+// (schema 2) are not checked yet.
+#include <string>
+#include <vector>
+
+#include "rigidae/dae/dae_system.hpp"
+#include "rigidae/model/scene.hpp"
+#include "rigidae/record/recorder.hpp"
+#include "rigidae/solver/ida_driver.hpp"
+
+namespace rigidae {
+
+struct AccuracyWarning {
+  std::string quantity;  // one of the measure names above
+  double drift = 0.0;    // the measure's maximum
+  double limit = 0.0;    // the limit it passed (factor x tolerance)
+  double factor = 0.0;   // limit / tolerance (2 sqrt(N) or 10 N)
+  double tolerance = 0.0;
+  std::string message;   // one line for a person
+};
+
+// The largest drifts of a run, by measure; NaN for a measure not checked.
+struct InvariantDrifts {
+  double energy, angular_momentum, vertical_angular_momentum, constraint_position, constraint_velocity;
+  double tolerance;
+};
+
+// A StepSink placed in front of the recorder: forwards everything to it and
+// reads each step's observation back from it (no second evaluation).
+class InvariantMonitor final : public StepSink {
+ public:
+  InvariantMonitor(const DaeSystem& dae, const Scene& scene, RunRecorder& recorder);
+
+  void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
+  void on_output(double t, const Eigen::VectorXd& y) override { recorder_.on_output(t, y); }
+  void on_event(const EventNote& note) override { recorder_.on_event(note); }
+
+  const InvariantDrifts& drifts() const { return d_; }
+  std::vector<AccuracyWarning> warnings() const;
+
+ private:
+  RunRecorder& recorder_;
+  const RigidBodyModel& body_;
+  bool checked_, full_momentum_, constrained_;
+  double e0_, e_scale_, l_scale_, w_scale_;
+  Vec3 L0_W_;
+  double lz0_;
+  InvariantDrifts d_;
+  long steps_ = 0;
+};
+
+// The warnings as one short text for a table cell ("energy 3.1e+03 tau;
+// angular_momentum ..."), empty when there are none.
+std::string warnings_cell(const std::vector<AccuracyWarning>& w);
+
+}  // namespace rigidae

@@ -1,0 +1,60 @@
+#pragma once
+// The one table of output columns: name, units, the files that carry it, and
+// how its value is computed from an Observation and the step. steps.csv and
+// trajectory.csv (header, units line, rows), summary.json's final row, and the
+// readers behind compare and study (trajectory_csv.cpp) all go through it:
+// adding a column is one row in src/record/columns.cpp.
+#include <fmt/format.h>
+
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "rigidae/record/observation.hpp"
+
+namespace rigidae::columns {
+
+// Where a column appears (a bit set).
+enum File : unsigned { kSteps = 1u, kTrajectory = 2u };
+
+// What is known when a row is written.
+struct Sample {
+  double t = 0.0;
+  double h = 0.0;       // the step just taken (steps.csv)
+  int order = 0;        // its BDF order (steps.csv)
+  const Observation* observation = nullptr;
+  std::string_view chart;  // the current Euler-angle chart ("" without charts)
+};
+
+enum class Kind {
+  Real,         // one number, `value`
+  Integer,      // one whole number, `integer`
+  Multipliers,  // one column per multiplier, named by the DAE ("lambda_*", "mu_*")
+  Chart,        // the Euler-angle chart's name; only for representations with charts
+};
+
+struct Column {
+  std::string_view name;   // header name (Multipliers: the DAE names them)
+  std::string_view units;  // this column's part of the units line; "" for none
+  unsigned files = kSteps | kTrajectory;
+  Kind kind = Kind::Real;
+  double (*value)(const Sample&) = nullptr;
+  long (*integer)(const Sample&) = nullptr;
+};
+
+// Every column, in file order.
+std::span<const Column> all();
+
+// The first line of steps.csv and trajectory.csv: "# units: t s; h s; ...".
+std::string units_line();
+// The header line of `file` (without the newline).
+std::string header(File file, const std::vector<std::string>& multiplier_names, bool with_chart);
+// Appends one row of `file` (with its newline) to b; allocates nothing.
+void append_row(fmt::memory_buffer& b, File file, const Sample& s, bool with_chart);
+
+// Multiplier columns by their prefix: "lambda_" a force (J), "mu_" a kinematic one (1/s).
+bool is_multiplier(std::string_view header_name);
+bool is_force_multiplier(std::string_view header_name);
+
+}  // namespace rigidae::columns

@@ -1,0 +1,793 @@
+// Scene files of schema_version 2: rigid bodies joined by joints, with
+// springs and loads (docs/scene_format.md, "Schema 2"). Fills
+// Scene::multibody (model/multibody_spec.hpp); the tables both schemas share
+// ([gravity], [time], [formulation], [solver], the name and the orientation
+// forms) are read by scene_loader.cpp's readers (scene_sections.hpp).
+//
+// What the user writes and what the spec holds differ in one way: joint and
+// spring points and axes are written in SPACE at the initial pose (read off a
+// drawing), unless `frame = "body"`; the spec holds them in each body's frame,
+// from its centre of mass:
+//     s_B = R0_WB^T (p_W - x0_W),   d_B = R0_WB^T d_W.
+// The ground is the space frame itself (R = I, x = 0).
+//
+// Checks beyond single values, all at the initial pose: a joint's bodies
+// exist (with a suggestion), axes are non-zero and normals perpendicular, the
+// joints between one pair of bodies do not repeat or fight each other (their
+// conditions on the relative motion are independent), and no body is welded
+// to the ground. Whether the joints hold at the initial pose, and closed
+// loops, are the assembler's to check (it has the constraint functions).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <numeric>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "rigidae/core/error.hpp"
+#include "rigidae/model/scene.hpp"
+#include "scene_sections.hpp"
+#include "toml_reader.hpp"
+
+namespace rigidae::io::detail {
+namespace {
+
+// ---------------------------------------------------------------------------
+// The schema
+// ---------------------------------------------------------------------------
+
+constexpr std::array<std::string_view, 13> kRootKeys{
+    "schema_version", "name",    "description", "start_tolerance", "reference", "bodies",  "joints",
+    "springs",        "loads",   "gravity",     "time",            "formulation", "solver"};
+constexpr std::array<std::string_view, 14> kBodyKeys{
+    "name",     "mass",  "inertia_principal", "inertia",    "inertia_axes", "position",         "quaternion",
+    "euler",    "matrix", "axis_angle",       "velocity",   "angular_velocity", "angular_velocity_frame",
+    "coordinates"};
+constexpr std::array<std::string_view, 3> kEulerKeys{"sequence", "convention", "angles"};
+constexpr std::array<std::string_view, 2> kAxisAngleKeys{"axis", "angle"};
+constexpr std::array<std::string_view, 15> kJointKeys{
+    "name",    "type",     "bodies",   "frame",    "point",     "axis",    "axis_a",    "axis_b",
+    "point_a", "point_b",  "normal_a", "normal_b", "stiffness", "damping", "rest_angle"};
+constexpr std::array<std::string_view, 8> kSpringKeys{"name",    "bodies",    "frame",   "point_a",
+                                                      "point_b", "stiffness", "damping", "rest_length"};
+constexpr std::array<std::string_view, 4> kLoadKeys{"body", "force", "torque", "frame"};
+
+// Schema 2's own tables; the shared ones are added from scene_loader.cpp.
+const std::array<SectionKeys, 7> kOwnSections{{
+    {"", kRootKeys},
+    {"bodies", kBodyKeys},
+    {"bodies.euler", kEulerKeys},
+    {"bodies.axis_angle", kAxisAngleKeys},
+    {"joints", kJointKeys},
+    {"springs", kSpringKeys},
+    {"loads", kLoadKeys},
+}};
+
+const std::vector<SectionKeys>& sections() {
+  static const std::vector<SectionKeys> all = [] {
+    std::vector<SectionKeys> v(kOwnSections.begin(), kOwnSections.end());
+    const auto shared = shared_sections();
+    v.insert(v.end(), shared.begin(), shared.end());
+    return v;
+  }();
+  return all;
+}
+
+constexpr std::array<std::string_view, 6> kJointTypes{"spherical",  "revolute",    "universal",
+                                                      "prismatic",  "cylindrical", "fixed"};
+constexpr std::array<JointType, 6> kJointTypeValues{JointType::Spherical, JointType::Revolute,
+                                                    JointType::Universal, JointType::Prismatic,
+                                                    JointType::Cylindrical, JointType::Fixed};
+constexpr std::array<std::string_view, 2> kFrames{"space", "body"};
+constexpr std::string_view kGroundName = "ground";
+
+// Magnitudes beyond these are taken as input mistakes (wrong units, typos).
+constexpr double kMaxLength = 1e6;           // m: positions and points
+constexpr double kMaxSpeed = 1e6;            // m/s
+constexpr double kMaxAngularSpeed = 1e6;     // rad/s
+constexpr double kMaxForce = 1e12;           // N, N m
+constexpr double kMaxCoefficient = 1e12;     // N/m, N s/m, N m/rad, N m s/rad
+constexpr double kMaxRestAngle = 1e3;        // rad
+constexpr std::size_t kMaxPartNameBytes = 64;
+
+// Directions that should be at right angles: off by more than this (the
+// cosine of their angle) is an error; between kSilent and this, fixed with a
+// warning; below, fixed silently. The same bounds as unit quaternions.
+constexpr double kPerpendicularError = 1e-6;
+constexpr double kPerpendicularSilent = 1e-12;
+// Attachment points closer than this leave a spring without a direction.
+constexpr double kMinSpringLength = 1e-9;  // m
+// Relative singular-value threshold when counting independent joint conditions.
+constexpr double kRankTol = 1e-9;
+
+std::string fmt_vec6(const Vec3& v) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", v[0], v[1], v[2]); }
+std::string item(std::string_view array, std::size_t i) { return fmt::format("{}[{}]", array, i); }
+
+std::string lowercase(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = text::lower(c);
+  return out;
+}
+
+// ---------------------------------------------------------------------------
+// Values
+// ---------------------------------------------------------------------------
+
+Vec3 bounded_vec3(const TomlReader& r, const toml::node& n, const std::string& name, double max,
+                  std::string_view unit) {
+  const Vec3 v = r.vec3(n, name);
+  if (v.norm() > max)
+    r.fail(n, fmt::format("|{}| = {:g} {} is too large; it must be at most {:g} {} (check the units)", name,
+                          v.norm(), unit, max, unit));
+  return v;
+}
+
+double bounded_number(const TomlReader& r, const toml::node& n, const std::string& name, double lo, double hi,
+                      std::string_view unit) {
+  const double v = r.number(n, name);
+  if (!(v >= lo && v <= hi))
+    r.fail(n, fmt::format("'{}' = {} must lie in [{:g}, {:g}] {}", name, v, lo, hi, unit));
+  return v;
+}
+
+// A direction: any non-zero length, returned as a unit vector.
+Vec3 direction(const TomlReader& r, const toml::node& n, const std::string& name) {
+  const Vec3 v = r.vec3(n, name);
+  const double len = v.norm();
+  if (!(len > 0.0) || !std::isfinite(len))
+    r.fail(n, fmt::format("'{}' must be a non-zero vector (a direction: its length does not matter, the "
+                          "loader normalises it), got {}",
+                          name, fmt_vec6(v)));
+  return v / len;
+}
+
+// `v` (unit) made exactly perpendicular to `axis` (unit).
+Vec3 perpendicular(const TomlReader& r, const toml::node& n, const std::string& name, const Vec3& v,
+                   const Vec3& axis, const std::string& axis_name, std::string_view hint) {
+  const double c = v.dot(axis);
+  if (std::abs(c) > kPerpendicularError)
+    r.fail(n, fmt::format("'{}' must be perpendicular to {}: the angle between them is {:.6g} degrees "
+                          "(cosine {:.3g}, at most {:g} is accepted){}",
+                          name, axis_name, std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / std::numbers::pi, c,
+                          kPerpendicularError, hint));
+  if (std::abs(c) > kPerpendicularSilent)
+    r.warn(n, fmt::format("'{}' is {:.3g} rad from perpendicular to {}; made perpendicular", name,
+                          std::abs(std::asin(std::clamp(c, -1.0, 1.0))), axis_name));
+  return (v - c * axis).normalized();
+}
+
+// A unit vector perpendicular to `axis`: the coordinate axis e_x, e_y or e_z
+// least parallel to it (the first on a tie), with its component along `axis`
+// removed. The choice never changes the motion: both bodies get the same
+// normal at the initial pose.
+Vec3 default_normal(const Vec3& axis) {
+  int k = 0;
+  for (int i = 1; i < 3; ++i)
+    if (std::abs(axis[i]) < std::abs(axis[k])) k = i;
+  const Vec3 e = Vec3::Unit(k);
+  return (e - e.dot(axis) * axis).normalized();
+}
+
+// Names of bodies, joints and springs become output columns (BODY.qw,
+// JOINT.force_x) and may become folder names.
+void check_part_name(const TomlReader& r, const toml::node& n, const std::string& key, const std::string& name) {
+  const bool safe = !name.empty() && name.size() <= kMaxPartNameBytes && name.front() != '-' &&
+                    std::all_of(name.begin(), name.end(), [](char c) {
+                      return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                             c == '_' || c == '-';
+                    });
+  if (!safe)
+    r.fail(n, fmt::format("'{}' = \"{}\" cannot name output columns and folders: give 1 to {} letters, digits, "
+                          "'_' or '-' (not starting with '-'), e.g. \"upper_arm\"",
+                          key, printable(name), kMaxPartNameBytes));
+  if (lowercase(name) == kGroundName)
+    r.fail(n, fmt::format("'{}' = \"{}\" is reserved: \"ground\" names the fixed space frame in joints, springs "
+                          "and loads; give the part another name",
+                          key, printable(name)));
+}
+
+// ---------------------------------------------------------------------------
+// The reader
+// ---------------------------------------------------------------------------
+
+struct Part {
+  std::string kind;  // "body", "joint", "spring"
+  std::string name;
+  int line = 0;
+};
+
+// The initial pose of a body, or of the ground.
+struct Pose {
+  Mat3 R = Mat3::Identity();
+  Vec3 x = Vec3::Zero();
+};
+
+class MultibodyReader {
+ public:
+  MultibodyReader(const TomlReader& r, const toml::table& root) : r_(r), root_(root) {}
+
+  Scene read() {
+    Scene scene;
+    scene.source = r_.file();
+    // A one-body file with the wrong version: say so, not "unknown key 'body'".
+    for (std::string_view old : {"body", "initial", "support"})
+      if (root_.get(old) && !root_.get("bodies"))
+        r_.fail(*root_.get("schema_version"),
+                fmt::format("schema_version = 2 is a scene of [[bodies]] and [[joints]], but this file has schema "
+                            "1's [{}]: write schema_version = 1 for one body (see docs/scene_format.md)",
+                            old));
+    r_.check_keys(root_, "", kRootKeys, sections());
+    read_scene_name(r_, root_, scene);
+    MultibodySpec spec;
+    if (const toml::node* n = root_.get("start_tolerance"))
+      spec.start_tolerance = open_unit_interval(*n, "start_tolerance",
+                                                "(m and rad: the largest miss of a joint at the start that is "
+                                                "projected with a warning, e.g. 1e-6)");
+
+    read_bodies(spec);
+    read_gravity(r_, root_, scene);
+    spec.gravity_W = scene.gravity_W;
+    read_joints(spec);
+    check_joint_pairs(spec);
+    check_welds(spec);
+    read_springs(spec);
+    read_loads(spec);
+
+    read_time(r_, root_, scene);
+    read_formulation(r_, root_, scene);
+    read_solver(r_, root_, scene);
+    check_settings_together(r_, root_, scene);
+    read_reference(scene);
+    scene.multibody = std::move(spec);
+    return scene;
+  }
+
+ private:
+  const TomlReader& r_;
+  const toml::table& root_;
+  std::map<std::string, Part> names_;  // lower-case name -> the part that has it
+  std::vector<Pose> poses_;            // of the bodies, in order
+  std::vector<std::string> body_names_;
+  std::map<std::string, int, std::less<>> body_index_;
+  std::vector<const toml::table*> joint_tables_;
+
+  double open_unit_interval(const toml::node& n, const std::string& name, std::string_view what) const {
+    const double v = r_.number(n, name);
+    if (!(v > 0.0 && v < 1.0)) r_.fail(n, fmt::format("'{}' = {} must lie in (0, 1) {}", name, v, what));
+    return v;
+  }
+
+  SourcePosition where(const toml::node& n) const {
+    const auto b = n.source().begin;
+    return {r_.file(), static_cast<int>(b.line), static_cast<int>(b.column)};
+  }
+
+  // The entries of an array of tables `key` ([[key]]); none if absent.
+  std::vector<const toml::table*> tables(std::string_view key, bool required, std::string_view what) const {
+    const toml::node* n = root_.get(key);
+    std::vector<const toml::table*> out;
+    if (!n) {
+      if (required)
+        r_.fail(root_.source(), fmt::format("missing [[{}]]: a schema-2 scene needs at least one {} (see "
+                                            "docs/scene_format.md, \"Schema 2\")",
+                                            key, what));
+      return out;
+    }
+    const toml::array* a = n->as_array();
+    if (a && a->empty()) {
+      if (required) r_.fail(*n, fmt::format("'{}' is empty; a schema-2 scene needs at least one {}", key, what));
+      return out;
+    }
+    if (!a || !a->is_array_of_tables())
+      r_.fail(*n, fmt::format("'{}' must be an array of tables, one [[{}]] header per {}, not {}", key, key,
+                              what, a ? std::string("an array of other values") : type_name(*n)));
+    for (const toml::node& e : *a) out.push_back(e.as_table());
+    return out;
+  }
+
+  // Registers a name, refusing one already used by any part (letter case
+  // ignored: output folders may live on case-insensitive file systems).
+  void claim_name(const toml::node* n, const toml::table& tbl, const std::string& kind, const std::string& name) {
+    const auto [it, fresh] = names_.try_emplace(lowercase(name), Part{kind, name, static_cast<int>(tbl.source().begin.line)});
+    if (fresh) return;
+    const Part& p = it->second;
+    const std::string msg = fmt::format(
+        "duplicate name \"{}\": the {} \"{}\" (line {}) has it already; bodies, joints and springs need "
+        "distinct names, ignoring letter case (they name output columns)",
+        printable(name), p.kind, printable(p.name), p.line);
+    if (n) r_.fail(*n, msg);
+    r_.fail(tbl.source(), msg);
+  }
+
+  // A body by name, or the ground (kGround).
+  int body_index(const toml::node& n, const std::string& key, bool allow_ground) const {
+    const std::string name = r_.string(n, key);
+    if (name == kGroundName) {
+      if (!allow_ground)
+        r_.fail(n, fmt::format("'{}' = \"ground\": a load acts on a body (the ground does not move)", key));
+      return kGround;
+    }
+    if (const auto it = body_index_.find(name); it != body_index_.end()) return it->second;
+    std::vector<std::string_view> options(body_names_.begin(), body_names_.end());
+    if (allow_ground) options.push_back(kGroundName);
+    std::string msg = fmt::format("'{}' = \"{}\" is not a body of this scene", key, printable(name));
+    if (auto best = closest(name, options)) msg += fmt::format("; did you mean \"{}\"?", *best);
+    constexpr std::size_t kShown = 8;
+    std::vector<std::string_view> shown(options.begin(), options.begin() + std::min(kShown, options.size()));
+    msg += fmt::format(" (bodies: {}{}{})", quoted_list(shown),
+                       options.size() > kShown ? fmt::format(" and {} more", options.size() - kShown) : "",
+                       allow_ground && options.size() > kShown ? ", or 'ground'" : "");
+    r_.fail(n, msg);
+  }
+
+  Pose pose(int body) const { return body == kGround ? Pose{} : poses_[static_cast<std::size_t>(body)]; }
+  std::string body_label(int body) const {
+    return body == kGround ? std::string("the ground") : fmt::format("\"{}\"", body_names_[static_cast<std::size_t>(body)]);
+  }
+
+  // `bodies = ["a", "b"]`: two different bodies, either may be the ground.
+  std::pair<int, int> body_pair(const toml::table& tbl, const std::string& prefix, std::string_view table) const {
+    const toml::node& n = r_.required(tbl, table, "bodies", "[\"a\", \"b\"]: two body names, or \"ground\"");
+    const std::string key = join_key(prefix, "bodies");
+    const toml::array& a = r_.array(n, key, 2, "body names (or \"ground\")");
+    const int ia = body_index(*a.get(0), item(key, 0), true);
+    const int ib = body_index(*a.get(1), item(key, 1), true);
+    if (ia == ib)
+      r_.fail(*a.get(1), fmt::format("'{}' names {} twice; a {} joins two different bodies (or a body and "
+                                     "\"ground\")",
+                                     key, body_label(ia), table == "springs" ? "spring" : "joint"));
+    return {ia, ib};
+  }
+
+  // --- bodies ----------------------------------------------------------------
+
+  void read_bodies(MultibodySpec& spec) {
+    const auto list = tables("bodies", true, "body");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const toml::table& t = *list[i];
+      const std::string prefix = item("bodies", i);
+      r_.check_keys(t, "bodies", kBodyKeys, sections());
+      BodySpec b;
+      b.where = where(t);
+      const toml::node& name_node = r_.required(t, "bodies", "name", "a name such as \"upper_arm\"");
+      b.name = r_.string(name_node, join_key(prefix, "name"));
+      check_part_name(r_, name_node, join_key(prefix, "name"), b.name);
+      claim_name(&name_node, t, "body", b.name);
+
+      const MassInertia mi = read_mass_inertia(r_, t, "bodies", prefix);
+      b.mass = mi.mass;
+      b.inertia_com = mi.inertia_com;
+      if (const toml::node* ax = t.get("inertia_axes")) {
+        const std::string name = join_key(prefix, "inertia_axes");
+        if (!t.get("inertia_principal"))
+          r_.fail(*ax, fmt::format("'{}' goes with '{}' (the principal moments along these axes); a full "
+                                   "'inertia' tensor carries its axes already",
+                                   name, join_key(prefix, "inertia_principal")));
+        const Mat3 A = r_.mat3(*ax, name);
+        const double dev = (A * A.transpose() - Mat3::Identity()).norm();
+        if (dev > kPerpendicularError)
+          r_.fail(*ax, fmt::format("the rows of '{}' must be three orthonormal directions (the principal axes "
+                                   "in body components): ||A A^T - I||_F = {:.3g} > {:g}",
+                                   name, dev, kPerpendicularError));
+        // Rows are the axes a_k: J = sum_k J_k a_k a_k^T = A^T diag(J) A.
+        b.inertia_com = A.transpose() * mi.inertia_com * A;
+        b.inertia_com = 0.5 * (b.inertia_com + b.inertia_com.transpose()).eval();
+      }
+      // A flat part (J_i = J_j + J_k, a disk) is accepted: held by joints it
+      // is as determined as any other (the heavy top is one).
+      check_possible_moments(r_, *mi.node, mi.name, b.inertia_com);
+
+      const toml::node& pos = r_.required(t, "bodies", "position", "[x, y, z] in m: the centre of mass in space");
+      b.x0_W = bounded_vec3(r_, pos, join_key(prefix, "position"), kMaxLength, "m");
+      b.R0_WB = read_orientation(r_, t, "bodies", prefix, sections(), false).value_or(Mat3::Identity());
+      if (const toml::node* v = t.get("velocity"))
+        b.v0_W = bounded_vec3(r_, *v, join_key(prefix, "velocity"), kMaxSpeed, "m/s");
+      Vec3 w = Vec3::Zero();
+      if (const toml::node* n = t.get("angular_velocity"))
+        w = bounded_vec3(r_, *n, join_key(prefix, "angular_velocity"), kMaxAngularSpeed, "rad/s");
+      bool space = true;
+      if (const toml::node* f = t.get("angular_velocity_frame"))
+        space = r_.choice(*f, join_key(prefix, "angular_velocity_frame"), kFrames) == 0;
+      b.omega0_B = space ? Vec3(b.R0_WB.transpose() * w) : w;
+      if (const toml::node* c = t.get("coordinates")) {
+        constexpr std::array<std::string_view, 3> opts{"euler", "quaternion", "linear"};
+        constexpr std::array<Coordinates, 3> vals{Coordinates::EulerAngles, Coordinates::Quaternion,
+                                                  Coordinates::Linear};
+        b.coordinates = vals[r_.choice(*c, join_key(prefix, "coordinates"), opts)];
+      }
+      poses_.push_back({b.R0_WB, b.x0_W});
+      body_index_.emplace(b.name, static_cast<int>(body_names_.size()));
+      body_names_.push_back(b.name);
+      spec.bodies.push_back(std::move(b));
+    }
+  }
+
+  // --- joints ----------------------------------------------------------------
+
+  void read_joints(MultibodySpec& spec) {
+    joint_tables_ = tables("joints", false, "joint");
+    for (std::size_t i = 0; i < joint_tables_.size(); ++i) spec.joints.push_back(read_joint(*joint_tables_[i], i));
+  }
+
+  JointSpec read_joint(const toml::table& t, std::size_t i) {
+    const std::string prefix = item("joints", i);
+    const auto key = [&](std::string_view k) { return join_key(prefix, k); };
+    r_.check_keys(t, "joints", kJointKeys, sections());
+    JointSpec j;
+    j.where = where(t);
+    const toml::node* name_node = t.get("name");
+    j.name = name_node ? r_.string(*name_node, key("name")) : fmt::format("joint{}", i + 1);
+    if (name_node) check_part_name(r_, *name_node, key("name"), j.name);
+    claim_name(name_node, t, "joint", j.name);
+
+    const toml::node& type_node = r_.required(t, "joints", "type", quoted_list(kJointTypes));
+    const std::size_t type = r_.choice(type_node, key("type"), kJointTypes);
+    j.type = kJointTypeValues[type];
+    const std::string_view type_name = kJointTypes[type];
+    std::tie(j.body_a, j.body_b) = body_pair(t, prefix, "joints");
+    bool body_frame = false;
+    if (const toml::node* f = t.get("frame")) body_frame = r_.choice(*f, key("frame"), kFrames) == 1;
+
+    const bool has_axis = j.type == JointType::Revolute || j.type == JointType::Prismatic ||
+                          j.type == JointType::Cylindrical;
+    const bool universal = j.type == JointType::Universal;
+
+    // The keys this type and frame use; any other is a mistake.
+    std::vector<std::string_view> valid{"name", "type", "bodies", "frame"};
+    if (body_frame) {
+      valid.insert(valid.end(), {"point_a", "point_b"});
+      if (has_axis || universal) valid.insert(valid.end(), {"axis_a", "axis_b"});
+      if (has_axis) valid.insert(valid.end(), {"normal_a", "normal_b"});
+    } else {
+      valid.push_back("point");
+      if (has_axis) valid.push_back("axis");
+      if (universal) valid.insert(valid.end(), {"axis_a", "axis_b"});
+    }
+    if (j.type == JointType::Revolute) valid.insert(valid.end(), {"stiffness", "damping", "rest_angle"});
+    for (std::string_view k : kJointKeys) {
+      const toml::node* n = t.get(k);
+      if (!n || std::find(valid.begin(), valid.end(), k) != valid.end()) continue;
+      const bool per_body = k == "point_a" || k == "point_b" || k == "normal_a" || k == "normal_b";
+      std::string why;
+      if (k == "stiffness" || k == "damping" || k == "rest_angle")
+        why = "a torsional spring-damper belongs to a revolute joint";
+      else if (!body_frame && per_body)
+        why = "in space (the default frame) a joint has one 'point'; per-body points and normals need "
+              "frame = \"body\"";
+      else if (body_frame && (k == "point" || k == "axis"))
+        why = "with frame = \"body\" give 'point_a' and 'point_b' (and 'axis_a', 'axis_b') in each body's frame";
+      else if (k == "axis" && universal)
+        why = "a universal joint has two pins: 'axis_a' (fixed in the first body) and 'axis_b'";
+      else if (has_axis && (k == "axis_a" || k == "axis_b"))
+        why = "in space one 'axis' serves both bodies; 'axis_a' and 'axis_b' need frame = \"body\"";
+      else if (universal && (k == "normal_a" || k == "normal_b"))
+        why = "its pins 'axis_a' and 'axis_b' are normal to each other already";
+      else
+        why = fmt::format("a {} joint has no axis", type_name);
+      r_.fail(*n, fmt::format("'{}' does not apply to a {} joint{}: {} (its keys: {})", key(k), type_name,
+                              body_frame ? " with frame = \"body\"" : "", why, quoted_list(valid)));
+    }
+
+    const Pose pa = pose(j.body_a), pb = pose(j.body_b);
+    const auto required = [&](std::string_view k, std::string_view what) -> const toml::node& {
+      return r_.required(t, "joints", k, fmt::format("{} of this {} joint", what, type_name));
+    };
+    if (!body_frame) {
+      const Vec3 p = bounded_vec3(r_, required("point", "[x, y, z] in m, in space at the initial pose: the joint point"),
+                                  key("point"), kMaxLength, "m");
+      // One axis (u) and a normal (n) in space, equal for both bodies now.
+      Vec3 u_a = Vec3::UnitZ(), u_b = Vec3::UnitZ(), n_a = Vec3::UnitX(), n_b = Vec3::UnitX();
+      if (has_axis) {
+        u_a = u_b = direction(r_, required("axis", "[x, y, z] in space: the axis"), key("axis"));
+        n_a = n_b = default_normal(u_a);
+      } else if (universal) {
+        u_a = direction(r_, required("axis_a", "[x, y, z] in space: the cross-pin axis fixed in the first body"),
+                        key("axis_a"));
+        const toml::node& nb = required("axis_b", "[x, y, z] in space: the cross-pin axis fixed in the second body");
+        u_b = perpendicular(r_, nb, key("axis_b"), direction(r_, nb, key("axis_b")), u_a, fmt::format("'{}'", key("axis_a")),
+                            " (the two pins of a universal joint are at right angles)");
+        n_a = u_b;  // the partner pin: perpendicular to each axis (unused by the joint)
+        n_b = u_a;
+      }
+      j.point_a = pa.R.transpose() * (p - pa.x);
+      j.point_b = pb.R.transpose() * (p - pb.x);
+      j.axis_a = pa.R.transpose() * u_a;
+      j.axis_b = pb.R.transpose() * u_b;
+      j.normal_a = pa.R.transpose() * n_a;
+      j.normal_b = pb.R.transpose() * n_b;
+    } else {
+      j.point_a = bounded_vec3(r_, required("point_a", "[x, y, z] in m, in the first body's frame from its centre of mass"),
+                               key("point_a"), kMaxLength, "m");
+      j.point_b = bounded_vec3(r_, required("point_b", "[x, y, z] in m, in the second body's frame from its centre of mass"),
+                               key("point_b"), kMaxLength, "m");
+      // Fixed and spherical joints: the initial relative orientation is welded
+      // (fixed) or free (spherical); the axes below only keep the spec's
+      // invariants.
+      j.axis_a = pa.R.transpose().col(2);
+      j.axis_b = pb.R.transpose().col(2);
+      j.normal_a = pa.R.transpose().col(0);
+      j.normal_b = pb.R.transpose().col(0);
+      if (has_axis || universal) {
+        const toml::node& na = required("axis_a", "[x, y, z] in the first body's frame: the axis");
+        const toml::node& nb = required("axis_b", "[x, y, z] in the second body's frame: the axis");
+        j.axis_a = direction(r_, na, key("axis_a"));
+        j.axis_b = direction(r_, nb, key("axis_b"));
+        const Vec3 ua = pa.R * j.axis_a, ub = pb.R * j.axis_b;
+        if (universal) {
+          const double c = ua.dot(ub);
+          if (std::abs(c) > kPerpendicularError)
+            r_.fail(nb, fmt::format("the pins of a universal joint must be at right angles at the initial pose; "
+                                    "'{}' and '{}' make {:.6g} degrees there (in space: {} and {})",
+                                    key("axis_a"), key("axis_b"), std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / std::numbers::pi,
+                                    fmt_vec6(ua), fmt_vec6(ub)));
+          j.normal_a = pa.R.transpose() * (ub - ub.dot(ua) * ua).normalized();
+          j.normal_b = pb.R.transpose() * (ua - ua.dot(ub) * ub).normalized();
+        } else {
+          const std::string hint = " (or leave it out: the loader then computes one)";
+          if (const toml::node* n = t.get("normal_a"))
+            j.normal_a = perpendicular(r_, *n, key("normal_a"), direction(r_, *n, key("normal_a")), j.axis_a,
+                                       fmt::format("'{}'", key("axis_a")), hint);
+          else
+            j.normal_a = default_normal(j.axis_a);
+          if (const toml::node* n = t.get("normal_b")) {
+            j.normal_b = perpendicular(r_, *n, key("normal_b"), direction(r_, *n, key("normal_b")), j.axis_b,
+                                       fmt::format("'{}'", key("axis_b")), hint);
+          } else {
+            // Carried from a at the initial pose, so that a revolute joint's
+            // angle is zero there (as with frame = "space").
+            const Vec3 carried = pb.R.transpose() * (pa.R * j.normal_a);
+            const Vec3 off = carried - carried.dot(j.axis_b) * j.axis_b;
+            j.normal_b = off.norm() > 1e-3 ? off.normalized() : default_normal(j.axis_b);
+          }
+        }
+      }
+    }
+
+    if (j.type == JointType::Revolute) {
+      if (const toml::node* n = t.get("stiffness"))
+        j.torsion_stiffness = bounded_number(r_, *n, key("stiffness"), 0.0, kMaxCoefficient, "N m/rad");
+      if (const toml::node* n = t.get("damping"))
+        j.torsion_damping = bounded_number(r_, *n, key("damping"), 0.0, kMaxCoefficient, "N m s/rad");
+      if (const toml::node* n = t.get("rest_angle"))
+        j.torsion_rest_angle = bounded_number(r_, *n, key("rest_angle"), -kMaxRestAngle, kMaxRestAngle, "rad");
+    }
+    return j;
+  }
+
+  // --- the joints between one pair of bodies ----------------------------------
+
+  // The conditions a joint puts on the relative motion of b with respect to
+  // a at the initial pose, as rows acting on the twist (v, L w): v the
+  // velocity of b's point at `ref`, w its angular velocity (both relative to
+  // a, in space), L a length that makes the columns comparable. A point of b
+  // at p then moves at v + w x (p - ref).
+  Eigen::Matrix<double, Eigen::Dynamic, 6> conditions(const JointSpec& j, const Vec3& ref, double L) const {
+    const Pose pa = pose(j.body_a);
+    const Vec3 p = pa.R * j.point_a + pa.x - ref;
+    const Vec3 u = pa.R * j.axis_a, ub = pose(j.body_b).R * j.axis_b;
+    Vec3 n1 = default_normal(u), n2 = u.cross(n1);
+    using Row = Eigen::Matrix<double, 1, 6>;
+    std::vector<Row> rows;
+    const auto point_row = [&](const Vec3& n) {  // n . (v + w x p)
+      Row row;
+      row << n.transpose(), p.cross(n).transpose() / L;
+      rows.push_back(row);
+    };
+    const auto turn_row = [&](const Vec3& n) {  // n . w
+      Row row;
+      row << 0, 0, 0, n.transpose() / L;
+      rows.push_back(row);
+    };
+    switch (j.type) {
+      case JointType::Spherical:
+        for (int k = 0; k < 3; ++k) point_row(Vec3::Unit(k));
+        break;
+      case JointType::Revolute:
+        for (int k = 0; k < 3; ++k) point_row(Vec3::Unit(k));
+        turn_row(n1), turn_row(n2);
+        break;
+      case JointType::Universal:
+        for (int k = 0; k < 3; ++k) point_row(Vec3::Unit(k));
+        turn_row(u.cross(ub).normalized());
+        break;
+      case JointType::Prismatic:
+        point_row(n1), point_row(n2);
+        for (int k = 0; k < 3; ++k) turn_row(Vec3::Unit(k));
+        break;
+      case JointType::Cylindrical:
+        point_row(n1), point_row(n2);
+        turn_row(n1), turn_row(n2);
+        break;
+      case JointType::Fixed:
+        for (int k = 0; k < 3; ++k) point_row(Vec3::Unit(k)), turn_row(Vec3::Unit(k));
+        break;
+    }
+    Eigen::Matrix<double, Eigen::Dynamic, 6> M(static_cast<Eigen::Index>(rows.size()), 6);
+    for (std::size_t k = 0; k < rows.size(); ++k) M.row(static_cast<Eigen::Index>(k)) = rows[k].normalized();
+    return M;
+  }
+
+  static int rank(const Eigen::Matrix<double, Eigen::Dynamic, 6>& M) {
+    if (M.rows() == 0) return 0;
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(M);
+    const auto& s = svd.singularValues();
+    int r = 0;
+    for (Eigen::Index k = 0; k < s.size(); ++k)
+      if (s[k] > kRankTol * s[0]) ++r;
+    return r;
+  }
+
+  // Joints between the same two bodies must impose independent conditions:
+  // a repeated joint, or two that fight (two hinges with different axes),
+  // make the constraint Jacobian lose rank, and their reactions are not
+  // determined. Checked pair by pair, in file order, at the initial pose.
+  void check_joint_pairs(const MultibodySpec& spec) const {
+    std::map<std::pair<int, int>, std::vector<std::size_t>> pairs;
+    for (std::size_t i = 0; i < spec.joints.size(); ++i) {
+      const JointSpec& j = spec.joints[i];
+      std::vector<std::size_t>& earlier = pairs[std::minmax(j.body_a, j.body_b)];
+      if (!earlier.empty()) {
+        // Reference point and length scale: the pair's joint points.
+        const auto space_point = [&](const JointSpec& k) { return Vec3(pose(k.body_a).R * k.point_a + pose(k.body_a).x); };
+        const Vec3 ref = space_point(j);
+        double L = 1e-6;
+        for (std::size_t k : earlier) L = std::max(L, (space_point(spec.joints[k]) - ref).norm());
+        Eigen::Matrix<double, Eigen::Dynamic, 6> prior(0, 6);
+        for (std::size_t k : earlier) {
+          const auto rows = conditions(spec.joints[k], ref, L);
+          prior.conservativeResize(prior.rows() + rows.rows(), 6);
+          prior.bottomRows(rows.rows()) = rows;
+        }
+        const auto mine = conditions(j, ref, L);
+        Eigen::Matrix<double, Eigen::Dynamic, 6> all(prior.rows() + mine.rows(), 6);
+        all << prior, mine;
+        const int r_before = rank(prior), r_mine = rank(mine), r_all = rank(all);
+        if (r_all < r_before + r_mine) {
+          std::vector<std::string> names;
+          for (std::size_t k : earlier) names.push_back(fmt::format("\"{}\" (line {})", spec.joints[k].name, spec.joints[k].where.line));
+          std::string others;
+          for (std::size_t k = 0; k < names.size(); ++k) others += (k ? ", " : "") + names[k];
+          const std::string between = fmt::format("between {} and {}", body_label(j.body_a), body_label(j.body_b));
+          const toml::table& t = *joint_tables_[i];
+          if (r_all == r_before)
+            r_.fail(t.source(),
+                    fmt::format("joint \"{}\" repeats what {} {} already impose{} {}: it adds no condition of its "
+                                "own, so its reaction is not determined; remove it",
+                                j.name, names.size() > 1 ? "joints" : "joint", others,
+                                names.size() > 1 ? "" : "s", between));
+          r_.fail(t.source(),
+                  fmt::format("joint \"{}\" fights {} {}: together they impose {} conditions on the relative motion "
+                              "at the initial pose, of which only {} are independent, leaving {} degree{} of freedom{}; "
+                              "the reactions of dependent conditions are not determined (replace them by one joint "
+                              "that allows the motion wanted)",
+                              j.name, others, between, all.rows(), r_all, 6 - r_all, 6 - r_all == 1 ? "" : "s",
+                              r_all == 6 ? " (none: use one 'fixed' joint, or none at all for the ground)" : ""));
+        }
+      }
+      earlier.push_back(i);
+    }
+  }
+
+  // A body welded to the ground, directly or through other welded bodies,
+  // cannot move: its unknowns would only carry the weld's reactions. Refused
+  // (the ground is rigid already; leave the body out).
+  void check_welds(const MultibodySpec& spec) const {
+    std::vector<int> parent(spec.bodies.size() + 1);  // 0 = ground, i + 1 = body i
+    std::iota(parent.begin(), parent.end(), 0);
+    const auto find = [&](int x) {
+      while (parent[static_cast<std::size_t>(x)] != x) x = parent[static_cast<std::size_t>(x)];
+      return x;
+    };
+    for (std::size_t i = 0; i < spec.joints.size(); ++i) {
+      const JointSpec& j = spec.joints[i];
+      if (j.type != JointType::Fixed) continue;
+      const int a = find(j.body_a + 1), b = find(j.body_b + 1);
+      if ((a == find(0)) != (b == find(0))) {
+        // Every body of the group this weld joins to the ground.
+        const int group = a == find(0) ? b : a;
+        std::vector<std::string> held;
+        for (std::size_t k = 0; k < spec.bodies.size(); ++k)
+          if (find(static_cast<int>(k) + 1) == group) held.push_back(body_label(static_cast<int>(k)));
+        std::string list;
+        for (std::size_t k = 0; k < held.size(); ++k)
+          list += (k == 0 ? "" : k + 1 == held.size() ? " and " : ", ") + held[k];
+        r_.fail(joint_tables_[i]->source(),
+                fmt::format("fixed joint \"{}\" welds {} {} to the ground{}: {} cannot move, and a part that cannot "
+                            "move is part of the ground (leave it out, or give the joint a type that allows motion)",
+                            j.name, held.size() > 1 ? "bodies" : "body", list,
+                            held.size() > 1 ? " (with the fixed joints that join them)" : "",
+                            held.size() > 1 ? "they" : "it"));
+      }
+      parent[static_cast<std::size_t>(a)] = b;
+    }
+  }
+
+  // --- springs and loads --------------------------------------------------------
+
+  void read_springs(MultibodySpec& spec) {
+    const auto list = tables("springs", false, "spring");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const toml::table& t = *list[i];
+      const std::string prefix = item("springs", i);
+      const auto key = [&](std::string_view k) { return join_key(prefix, k); };
+      r_.check_keys(t, "springs", kSpringKeys, sections());
+      SpringSpec s;
+      s.where = where(t);
+      const toml::node* name_node = t.get("name");
+      s.name = name_node ? r_.string(*name_node, key("name")) : fmt::format("spring{}", i + 1);
+      if (name_node) check_part_name(r_, *name_node, key("name"), s.name);
+      claim_name(name_node, t, "spring", s.name);
+      std::tie(s.body_a, s.body_b) = body_pair(t, prefix, "springs");
+      bool body_frame = false;
+      if (const toml::node* f = t.get("frame")) body_frame = r_.choice(*f, key("frame"), kFrames) == 1;
+      const Pose pa = pose(s.body_a), pb = pose(s.body_b);
+      const char* frame_what = body_frame ? "in m, in that body's frame from its centre of mass"
+                                          : "in m, in space at the initial pose";
+      const toml::node& na = r_.required(t, "springs", "point_a", fmt::format("the end on the first body, {}", frame_what));
+      const toml::node& nb = r_.required(t, "springs", "point_b", fmt::format("the end on the second body, {}", frame_what));
+      const Vec3 a = bounded_vec3(r_, na, key("point_a"), kMaxLength, "m");
+      const Vec3 b = bounded_vec3(r_, nb, key("point_b"), kMaxLength, "m");
+      s.point_a = body_frame ? a : Vec3(pa.R.transpose() * (a - pa.x));
+      s.point_b = body_frame ? b : Vec3(pb.R.transpose() * (b - pb.x));
+      const double length = ((pb.R * s.point_b + pb.x) - (pa.R * s.point_a + pa.x)).norm();
+      if (length < kMinSpringLength)
+        r_.fail(nb, fmt::format("the ends of spring \"{}\" coincide at the initial pose ({:.3g} m apart), where its "
+                                "direction is undefined; attach them at distinct points",
+                                s.name, length));
+      s.stiffness = bounded_number(r_, r_.required(t, "springs", "stiffness", "N/m, >= 0"), key("stiffness"), 0.0,
+                                   kMaxCoefficient, "N/m");
+      if (const toml::node* n = t.get("damping"))
+        s.damping = bounded_number(r_, *n, key("damping"), 0.0, kMaxCoefficient, "N s/m");
+      s.rest_length = length;
+      if (const toml::node* n = t.get("rest_length"))
+        s.rest_length = bounded_number(r_, *n, key("rest_length"), 0.0, kMaxLength, "m");
+      spec.springs.push_back(s);
+    }
+  }
+
+  void read_loads(MultibodySpec& spec) {
+    const auto list = tables("loads", false, "load");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const toml::table& t = *list[i];
+      const std::string prefix = item("loads", i);
+      const auto key = [&](std::string_view k) { return join_key(prefix, k); };
+      r_.check_keys(t, "loads", kLoadKeys, sections());
+      BodyLoadSpec l;
+      l.where = where(t);
+      l.body = body_index(r_.required(t, "loads", "body", "the name of the body it acts on"), key("body"), false);
+      const toml::node* f = t.get("force");
+      const toml::node* m = t.get("torque");
+      if (!f && !m)
+        r_.fail(t.source(), fmt::format("{} needs 'force' (N, at the centre of mass) or 'torque' (N m), or both",
+                                        prefix));
+      if (f) l.force = bounded_vec3(r_, *f, key("force"), kMaxForce, "N");
+      if (m) l.torque = bounded_vec3(r_, *m, key("torque"), kMaxForce, "N m");
+      if (const toml::node* fr = t.get("frame")) l.body_frame = r_.choice(*fr, key("frame"), kFrames) == 1;
+      spec.loads.push_back(l);
+    }
+  }
+
+  void read_reference(Scene& scene) const {
+    const toml::node* n = root_.get("reference");
+    if (!n) return;
+    read_top_level_settings(r_, root_, scene);
+    if (scene.reference == ReferenceKind::Exact)
+      r_.fail(*n, "'reference' = \"exact\" but a scene of bodies and joints has no closed-form solution (use "
+                  "\"auto\" or \"tight\" for a tight run)");
+  }
+};
+
+}  // namespace
+
+Scene read_multibody_scene(const TomlReader& r, const toml::table& root) { return MultibodyReader(r, root).read(); }
+
+}  // namespace rigidae::io::detail
