@@ -1,5 +1,7 @@
 // The multibody DAE: construction, residual and exact iteration matrix
 // (see multibody_problem.hpp for the equations).
+#include <fmt/format.h>
+
 #include "rigidae/multibody/multibody_problem.hpp"
 
 #include <algorithm>
@@ -105,6 +107,11 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
   }
   for (int j = 0; j < static_cast<int>(spec_.joints.size()); ++j) {
     const JointSpec& js = spec_.joints[j];
+    // Not modelled yet: said, never silently dropped.
+    if (js.torsion_stiffness != 0.0 || js.torsion_damping != 0.0)
+      warnings_.push_back(fmt::format("joint '{}': its torsional spring-damper (stiffness {:g} N m/rad, damping {:g} "
+                                      "N m s/rad) is not modelled by the multibody assembler yet and is ignored",
+                                      js.name, js.torsion_stiffness, js.torsion_damping));
     ConstraintBlock blk;
     blk.joint = j;
     blk.kind = ConstraintKind::Force;
