@@ -92,3 +92,12 @@ TEST_CASE("multibody cli: heavy_top_absolute ends at heavy_top's orientation (sa
   MESSAGE("heavy top: |q_absolute - q_pivoted|_max at t = 2 s: " << diff);
   CHECK(diff < 1e-4);
 }
+
+TEST_CASE("multibody cli: compare refuses a multibody scene with exit 2, a message and no output folder") {
+  const fs::path dir = rigidae::test::fresh_temp_dir("mb_compare") / "out";
+  const auto r = rigidae::test::run_cli("compare " + kProblems + "double_pendulum.toml --quiet --out " + dir.string());
+  CAPTURE(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("does not run multibody scenes") != std::string::npos);
+  CHECK(!fs::exists(dir));
+}
