@@ -1,5 +1,7 @@
 #include "rigidae/app/solve.hpp"
 
+#include "solve_multibody.hpp"
+
 #include <fmt/format.h>
 
 #include <chrono>
@@ -194,6 +196,7 @@ std::string default_run_name(const Scene& scene) {
 }
 
 SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_dir) {
+  if (scene.multibody) return solve_multibody_scene(scene, out_dir);
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", out_dir.string(), ec.message()));

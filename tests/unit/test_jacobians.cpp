@@ -20,30 +20,8 @@
 #include "rigidae/so3/euler_sequence.hpp"
 #include "rigidae/so3/rotation.hpp"
 #include "rigidae/solver/ida_driver.hpp"
+#include "alloc_counter.hpp"
 #include "test_scenes.hpp"
-
-// Counts heap allocations on this thread while `g_count_allocations` is set.
-// Interposes glibc's malloc family (Eigen allocates through std::malloc and
-// operator new ends there too), forwarding to glibc's own entry points.
-extern "C" void* __libc_malloc(std::size_t);
-extern "C" void* __libc_calloc(std::size_t, std::size_t);
-extern "C" void* __libc_realloc(void*, std::size_t);
-namespace {
-thread_local bool g_count_allocations = false;
-thread_local long g_allocations = 0;
-}  // namespace
-extern "C" void* malloc(std::size_t n) {
-  if (g_count_allocations) ++g_allocations;
-  return __libc_malloc(n);
-}
-extern "C" void* calloc(std::size_t n, std::size_t size) {
-  if (g_count_allocations) ++g_allocations;
-  return __libc_calloc(n, size);
-}
-extern "C" void* realloc(void* p, std::size_t n) {
-  if (g_count_allocations) ++g_allocations;
-  return __libc_realloc(p, n);
-}
 
 using namespace rigidae;
 
@@ -276,21 +254,18 @@ TEST_CASE("residual and exact iteration matrix allocate nothing") {
         Eigen::VectorXd F(n);
         Eigen::MatrixXd J(n, n);
         Eigen::VectorXd values(dae->sparsity().nnz());
-        g_allocations = 0;
-        g_count_allocations = true;
+        test::start_counting_allocations();
         dae->residual(chart, 0.1, y.data(), yp.data(), F.data());
         dae->iteration_matrix(chart, 0.1, 50.0, y.data(), yp.data(), J.data());
         dae->iteration_matrix_sparse(chart, 0.1, 50.0, y.data(), yp.data(), values.data());
-        g_count_allocations = false;
+        const long allocations = test::stop_counting_allocations();
         CAPTURE(dae->representation().name());
         CAPTURE(scheme);
-        CHECK(g_allocations == 0);
+        CHECK(allocations == 0);
         // The counter does see allocations (so that 0 means something).
-        g_allocations = 0;
-        g_count_allocations = true;
+        test::start_counting_allocations();
         const Eigen::VectorXd copy = F;
-        g_count_allocations = false;
-        CHECK(g_allocations == 1);
+        CHECK(test::stop_counting_allocations() == 1);
       }
 }
 

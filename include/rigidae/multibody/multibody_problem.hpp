@@ -1,0 +1,184 @@
+#pragma once
+// Rigid bodies in absolute coordinates joined by joints: the assembled DAE
+// F(t, y, y') = 0 behind the narrow solver interface (DaeProblem).
+//
+// Unknowns, body by body then block by block:
+//   body i:  q_i = (x_i, q_rot,i), v_i = (x_i', v_rot,i)   (differential)
+//   block j: lambda_j, mu_j                                 (algebraic)
+// Body rows: kinematics x' - x_v = 0, q_rot' - N v_rot (+ Phi_q^T mu) = 0 and
+// dynamics m x_v' - f_x = 0, M v_rot' - f_rot (+ G^T lambda) = 0, where the
+// rotation block (N, M, f_rot: gyroscopic and velocity terms) is the one-body
+// representation with the centre of mass as reference point (no gravity
+// torque, inertia about the centre of mass). Gravity, loads and springs add
+// to f. Blocks: each body's internal constraints (the quaternion norm, R^T R
+// = I) of its representation's kind, and each joint (a Force block in both
+// forms, whose multipliers are reactions); rows per block kind as
+// BlockScheme states. The iteration matrix is exact (hand-derived through
+// body_vector.hpp and constraint_rows.hpp); its sparse pattern follows from
+// the blocks, so nonzeros and work grow like bodies + joints.
+//
+// Consistent start (constructor): the joints' position misses at the given
+// poses are measured; a miss above MultibodySpec::start_tolerance is an
+// InputError naming the joint (file:line:col), the row and the miss; smaller
+// ones are removed by Gauss-Newton with the least change in the mass metric
+// (a warning says how far). Velocities are projected onto G v = 0 in the
+// mass metric, then (v', lambda) come from [M G^T; G 0].
+//
+// Redundant constraints (an overconstrained closed loop, e.g. a planar
+// four-bar of four revolute joints) make [M G^T; G 0] singular. Decision: the
+// start factors G^T with a rank-revealing (column-pivoted) sparse QR, and
+// dependent rows are an InputError naming each one (joint, row, file:line:col)
+// before anything runs: a silent wrong answer is not possible, and the user
+// replaces a joint by one with fewer rows (a revolute by a universal or a
+// spherical joint) to remove the redundancy. A configuration reached later
+// where the rank drops makes Newton's matrix singular: IDA then fails with
+// its message (not detected in advance).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rigidae/coords/representation.hpp"
+#include "rigidae/model/scene.hpp"
+#include "rigidae/multibody/block_scheme.hpp"
+#include "rigidae/multibody/constraint_rows.hpp"
+#include "rigidae/multibody/jacobian_sink.hpp"
+#include "rigidae/solver/problem.hpp"
+
+namespace rigidae::multibody {
+
+struct BodyModel {
+  std::string name;
+  double mass = 1.0;
+  Mat3 inertia;  // about the centre of mass, body axes
+  Coordinates coordinates;
+  std::unique_ptr<Representation> rep;  // the rotation block
+  std::unique_ptr<RotationMap> map;
+  int q_group = 0, v_group = 0;  // groups of the unknowns
+  int nqr = 0, nvr = 0;
+};
+
+struct ConstraintBlock {
+  bool internal = false;  // a body's own constraints, else a joint
+  int body = -1;          // internal: the body
+  int joint = -1;         // joint: index in the spec
+  ConstraintKind kind = ConstraintKind::Force;
+  std::vector<ConstraintRow> rows;  // joints
+  std::vector<std::string> row_names;
+  int nr = 0;
+  int lambda_group = -1, mu_group = -1;
+  LevelWeights lambda_rows, mu_rows;
+  int body_of_side[2] = {kGround, kGround};
+};
+
+// Reaction of a joint on its body b (on a when b is the ground), in space:
+// the force at b's joint point (N) and the torque about that point (N m).
+struct JointReaction {
+  Vec3 force = Vec3::Zero();
+  Vec3 torque = Vec3::Zero();
+};
+
+class MultibodyProblem final : public DaeProblem {
+ public:
+  // scene.multibody must hold the validated spec. Throws InputError for a
+  // start that misses a joint by more than the tolerance or has dependent
+  // constraint rows.
+  explicit MultibodyProblem(const Scene& scene);
+
+  int size() const override { return n_; }
+  int state_size() const override { return n_state_; }
+  void initial_state(double t0, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
+  void make_consistent(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
+  void differential_id(Eigen::Ref<Eigen::VectorXd> id) const override;
+  bool suppress_algebraic_error_test() const override { return true; }
+  void absolute_tolerances(double rtol, double atol, const Eigen::VectorXd& y0,
+                           Eigen::Ref<Eigen::VectorXd> out) const override;
+  bool residual(double t, const double* y, const double* yp, double* F) override;
+  void iteration_matrix_dense(double t, double cj, const double* y, const double* yp, double* J) override;
+  const SparsityPattern& sparsity() const override { return pattern_; }
+  void iteration_matrix_sparse(double t, double cj, const double* y, const double* yp, double* values) override;
+  int event_count() const override;
+  void event_functions(double t, const double* y, double* g) override;
+  StepAction on_event(double t, double h, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
+  StepAction after_step(double t, double h, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
+  std::vector<EventNote> take_events() override;
+
+  // --- Structure, for tests and reports.
+  const std::vector<BodyModel>& bodies() const { return bodies_; }
+  const std::vector<ConstraintBlock>& blocks() const { return blocks_; }
+  const std::vector<UnknownGroup>& groups() const { return groups_; }
+  const BlockScheme& scheme() const { return scheme_; }
+  const MultibodySpec& spec() const { return spec_; }
+  // Warnings of the start (projected misses and velocities), for the report.
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
+  // --- Reporting helpers (not the hot path).
+  Vec4 body_orientation(int i, const double* y) const;     // unit quaternion of R_WB
+  Vec3 body_omega_space(int i, const double* y) const;     // rad/s
+  Vec3 body_position(int i, const double* y) const;        // m
+  Vec3 body_velocity(int i, const double* y) const;        // m/s
+  JointReaction joint_reaction(int joint, const double* y);
+  // |Phi| and |G v| of a joint's rows.
+  std::pair<double, double> joint_residuals(int joint, const double* y);
+  double kinetic_energy(const double* y) const;
+  double potential_energy(const double* y);
+  Vec3 linear_momentum(const double* y) const;
+  Vec3 angular_momentum(const double* y) const;  // about the space origin
+  // One output row: per body (BODY.qw .. qz, BODY.wx .. wz in space,
+  // BODY.x .. z, BODY.vx .. vz), per joint (JOINT.force_x .. z, JOINT.torque_x
+  // .. z on body b in space, JOINT.phi = |Phi|, JOINT.phi_dot = |G v|), then
+  // energy, linear momentum p_x .. p_z and angular momentum L_x .. L_z about
+  // the origin. Names and units in the same order.
+  std::vector<std::string> output_names() const;
+  std::vector<std::string> output_units() const;
+  void output_row(const double* y, double* out);
+  // Position- and velocity-level drift over all blocks (max norms).
+  std::pair<double, double> drift(double t, const double* y);
+  // Projects y onto Phi = 0 (Gauss-Newton, least change in the mass metric)
+  // and v onto G v = 0, then makes (y, y') consistent.
+  void project(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp);
+
+ private:
+  struct BodyWork {
+    BodyState st;
+    StandardTerms terms;
+    TermDerivatives derivs;
+  };
+  void evaluate(double t, const double* y, int order);
+  void evaluate_block(int j, const double* y, const double* yp);
+  void differentiate_block(int j, const double* y, const double* yp);
+  void assemble_jacobian(double t, double cj, const double* y, const double* yp, JacobianSink& sink);
+  void add_forces(const double* y, double* F);
+  void add_force_jacobian(const double* y, JacobianSink& sink);
+  // Force blocks' G (rows: their lambdas in order) over all velocities, and
+  // stacked positions Phi, at the last evaluate().
+  void constraint_matrices(Eigen::SparseMatrix<double>& G, Eigen::VectorXd& phi, std::vector<int>* row_block,
+                           std::vector<int>* row_index) const;
+  void start(const Scene& scene);
+  bool change_charts(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp, bool force_check);
+  std::string row_label(int block, int row) const;
+
+  MultibodySpec spec_;
+  BlockScheme scheme_;
+  double switch_threshold_ = 0.1;
+  bool switching_ = true;
+  double projection_threshold_ = 0.0;
+  bool project_every_step_ = false;
+  std::vector<BodyModel> bodies_;
+  std::vector<ConstraintBlock> blocks_;
+  std::vector<UnknownGroup> groups_;
+  std::vector<int> velocity_offset_;  // of body i's v in the stacked velocities
+  int nv_total_ = 0;
+  int n_ = 0;
+  int n_state_ = 0;  // the bodies' q and v come first
+  bool has_force_blocks_ = false;
+  SparsityPattern pattern_;
+  std::unique_ptr<JacobianSink> sink_;
+  std::vector<BodyWork> work_;
+  std::vector<BlockEval> block_eval_;
+  Eigen::VectorXd y0_, yp0_;
+  std::vector<std::string> warnings_;
+  std::vector<EventNote> events_;
+  const double* evaluated_y_ = nullptr;  // output_row: the bodies are evaluated at this y
+};
+
+}  // namespace rigidae::multibody

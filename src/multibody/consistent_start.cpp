@@ -1,0 +1,364 @@
+// Consistent starts and projections of the multibody DAE (see
+// multibody_problem.hpp): the joint misses, Gauss-Newton onto Phi = 0 with
+// the least change in the mass metric, velocities onto G v = 0, the rank of
+// G, and (v', lambda, mu, q') from the saddle-point system.
+//
+// With M the block-diagonal mass matrix (m I and the rotation block's M per
+// body) and G the Force blocks' rows over all velocities:
+//   position step:  [M G^T; G 0] (dv, nu) = (0, -Phi),      q += N(q) dv
+//   velocities:     [M G^T; G 0] (dv, nu) = (0, -G v),      v += dv
+//   accelerations:  [M G^T; G 0] (v', lambda) = (f, target)
+// (the least change in the mass metric, and the constrained accelerations),
+// solved as one sparse saddle-point system: M may be singular.
+// target = gamma for index3, index2, ggl (the true acceleration level) and
+// the scheme's own row with v' = 0 otherwise (Baumgarte's feedback), so the
+// residual vanishes. mu: (P P^T) mu = P q'_0 - rate, q' = q'_0 - P^T mu over
+// the blocks with mu (P their Phi_q), rate 0 or Baumgarte's -a Phi.
+// All sparse: O(bodies + joints) for chains.
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
+#include <Eigen/SparseQR>
+#include <Eigen/OrderingMethods>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "rigidae/core/error.hpp"
+#include "rigidae/multibody/multibody_problem.hpp"
+
+namespace rigidae::multibody {
+
+namespace {
+
+using Sparse = Eigen::SparseMatrix<double>;
+using Triplet = Eigen::Triplet<double>;
+using ConstMap = Eigen::Map<const Eigen::VectorXd>;
+
+// Largest |x|, 0 for an empty vector.
+double max_abs(const Eigen::VectorXd& x) { return x.size() ? x.cwiseAbs().maxCoeff() : 0.0; }
+
+}  // namespace
+
+void MultibodyProblem::constraint_matrices(Sparse& G, Eigen::VectorXd& phi, std::vector<int>* row_block,
+                                           std::vector<int>* row_index) const {
+  std::vector<Triplet> trip;
+  std::vector<double> values;
+  int row = 0;
+  for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) {
+    const ConstraintBlock& blk = blocks_[j];
+    if (blk.kind != ConstraintKind::Force) continue;
+    const BlockEval& e = block_eval_[j];
+    for (int r = 0; r < blk.nr; ++r) {
+      for (int x = 0; x < 2; ++x) {
+        const int bi = blk.body_of_side[x];
+        if (bi == kGround) continue;
+        for (int k = 0; k < e.G[x].cols(); ++k)
+          if (e.G[x](r, k) != 0.0) trip.emplace_back(row + r, velocity_offset_[bi] + k, e.G[x](r, k));
+      }
+      values.push_back(e.phi(r));
+      if (row_block) row_block->push_back(j);
+      if (row_index) row_index->push_back(r);
+    }
+    row += blk.nr;
+  }
+  G.resize(row, nv_total_);
+  G.setFromTriplets(trip.begin(), trip.end());
+  phi = Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<int>(values.size()));
+}
+
+namespace {
+
+// M as a sparse block-diagonal matrix.
+Sparse mass_matrix(const std::vector<BodyModel>& bodies, const std::vector<int>& offsets,
+                   const std::vector<Eigen::MatrixXd>& rot_mass, int nv) {
+  std::vector<Triplet> trip;
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const int o = offsets[i];
+    for (int k = 0; k < 3; ++k) trip.emplace_back(o + k, o + k, bodies[i].mass);
+    for (int r = 0; r < rot_mass[i].rows(); ++r)
+      for (int c = 0; c < rot_mass[i].cols(); ++c) trip.emplace_back(o + 3 + r, o + 3 + c, rot_mass[i](r, c));
+  }
+  Sparse S(nv, nv);
+  S.setFromTriplets(trip.begin(), trip.end());
+  return S;
+}
+
+// Solves [M G^T; G 0] (x, z) = (r1, r2) by sparse LU. M itself may be
+// singular where the constraints hold the motion (linear coordinates of a
+// flat body, J1 = J2 + J3 about the centre of mass: E is singular), so no
+// Schur complement through M^-1. Throws SolverError when the system is.
+void solve_saddle(const Sparse& M, const Sparse& G, const Eigen::VectorXd& r1, const Eigen::VectorXd& r2,
+                  Eigen::VectorXd& x, Eigen::VectorXd& z) {
+  const int nv = static_cast<int>(M.rows()), nc = static_cast<int>(G.rows());
+  std::vector<Triplet> trip;
+  for (int k = 0; k < M.outerSize(); ++k)
+    for (Sparse::InnerIterator it(M, k); it; ++it) trip.emplace_back(it.row(), it.col(), it.value());
+  for (int k = 0; k < G.outerSize(); ++k)
+    for (Sparse::InnerIterator it(G, k); it; ++it) {
+      trip.emplace_back(nv + it.row(), it.col(), it.value());
+      trip.emplace_back(it.col(), nv + it.row(), it.value());
+    }
+  Sparse K(nv + nc, nv + nc);
+  K.setFromTriplets(trip.begin(), trip.end());
+  K.makeCompressed();
+  Eigen::SparseLU<Sparse, Eigen::COLAMDOrdering<int>> lu;
+  lu.compute(K);
+  if (lu.info() != Eigen::Success)
+    throw SolverError("the constrained mass matrix [M G^T; G 0] is singular (dependent constraints or a body "
+                      "without mass in some direction)");
+  Eigen::VectorXd rhs(nv + nc);
+  rhs << r1, r2;
+  const Eigen::VectorXd sol = lu.solve(rhs);
+  x = sol.head(nv);
+  z = sol.tail(nc);
+}
+
+}  // namespace
+
+void MultibodyProblem::project(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
+  Sparse G;
+  Eigen::VectorXd phi;
+  std::vector<Eigen::MatrixXd> rot_mass(bodies_.size());
+  const auto refresh = [&]() {
+    evaluate(t, y.data(), 2);
+    for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) evaluate_block(j, y.data(), nullptr);
+    constraint_matrices(G, phi, nullptr, nullptr);
+    for (std::size_t i = 0; i < bodies_.size(); ++i) rot_mass[i] = work_[i].terms.M;
+  };
+  // Positions: Gauss-Newton in the mass metric, internal constraints by the
+  // representation's own projection (unit quaternion, polar factor).
+  for (int it = 0; it < 30; ++it) {
+    for (const BodyModel& b : bodies_) {
+      VecQ q = ConstMap(y.data() + groups_[b.q_group].offset + 3, b.nqr);
+      b.rep->project_coordinates(q);
+      y.segment(groups_[b.q_group].offset + 3, b.nqr) = q;
+    }
+    refresh();
+    if (max_abs(phi) < 1e-14) break;
+    Eigen::VectorXd dv, nu;
+    solve_saddle(mass_matrix(bodies_, velocity_offset_, rot_mass, nv_total_), G,
+                 Eigen::VectorXd::Zero(nv_total_), -phi, dv, nu);
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      const BodyModel& b = bodies_[i];
+      const int qo = groups_[b.q_group].offset, o = velocity_offset_[i];
+      y.segment(qo, 3) += dv.segment(o, 3);
+      const VecQ qr = y.segment(qo + 3, b.nqr);
+      const VecV dvr = dv.segment(o + 3, b.nvr);
+      StandardTerms terms;
+      b.rep->evaluate(t, qr, dvr, terms);  // q' = N(q) v is linear in v
+      y.segment(qo + 3, b.nqr) += terms.qdot;
+    }
+  }
+  // Velocities onto G v = 0 in the mass metric.
+  refresh();
+  if (G.rows() > 0) {
+    Eigen::VectorXd v(nv_total_);
+    for (std::size_t i = 0; i < bodies_.size(); ++i)
+      v.segment(velocity_offset_[i], groups_[bodies_[i].v_group].size) =
+          y.segment(groups_[bodies_[i].v_group].offset, groups_[bodies_[i].v_group].size);
+    Eigen::VectorXd dv, nu;
+    solve_saddle(mass_matrix(bodies_, velocity_offset_, rot_mass, nv_total_), G,
+                 Eigen::VectorXd::Zero(nv_total_), -(G * v), dv, nu);
+    v += dv;
+    for (std::size_t i = 0; i < bodies_.size(); ++i)
+      y.segment(groups_[bodies_[i].v_group].offset, groups_[bodies_[i].v_group].size) =
+          v.segment(velocity_offset_[i], groups_[bodies_[i].v_group].size);
+  }
+  make_consistent(t, y, yp);
+}
+
+void MultibodyProblem::make_consistent(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
+  yp.setZero(n_);
+  for (const ConstraintBlock& b : blocks_)
+    for (int g : {b.lambda_group, b.mu_group})
+      if (g >= 0) y.segment(groups_[g].offset, groups_[g].size).setZero();
+  // With v' = 0 and no multipliers the dynamic rows are -f and the
+  // constraint rows the scheme's rows without their v' part.
+  Eigen::VectorXd F(n_);
+  residual(t, y.data(), yp.data(), F.data());
+  Sparse G;
+  Eigen::VectorXd phi;
+  constraint_matrices(G, phi, nullptr, nullptr);
+  std::vector<Eigen::MatrixXd> rot_mass(bodies_.size());
+  for (std::size_t i = 0; i < bodies_.size(); ++i) rot_mass[i] = work_[i].terms.M;
+  Eigen::VectorXd f(nv_total_);
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    f.segment(velocity_offset_[i], groups_[bodies_[i].v_group].size) =
+        -F.segment(groups_[bodies_[i].v_group].offset, groups_[bodies_[i].v_group].size);
+  // Targets of G v' per Force row.
+  Eigen::VectorXd target(G.rows());
+  int row = 0;
+  for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) {
+    const ConstraintBlock& blk = blocks_[j];
+    if (blk.kind != ConstraintKind::Force) continue;
+    for (int r = 0; r < blk.nr; ++r, ++row) {
+      const double wa = blk.lambda_rows.acceleration;
+      target(row) = wa != 0.0 ? -F(groups_[blk.lambda_group].offset + r) / wa : -block_eval_[j].cacc(r);
+    }
+  }
+  Eigen::VectorXd a, lambda;
+  solve_saddle(mass_matrix(bodies_, velocity_offset_, rot_mass, nv_total_), G, f, target, a, lambda);
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    yp.segment(groups_[bodies_[i].v_group].offset, groups_[bodies_[i].v_group].size) =
+        a.segment(velocity_offset_[i], groups_[bodies_[i].v_group].size);
+  row = 0;
+  for (const ConstraintBlock& blk : blocks_) {
+    if (blk.kind != ConstraintKind::Force) continue;
+    y.segment(groups_[blk.lambda_group].offset, blk.nr) = lambda.segment(row, blk.nr);
+    row += blk.nr;
+  }
+  // q'_0 = N v, then mu and q' = q'_0 - P^T mu.
+  Eigen::VectorXd qdot = Eigen::VectorXd::Zero(n_);
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const BodyModel& b = bodies_[i];
+    const int qo = groups_[b.q_group].offset, vo = groups_[b.v_group].offset;
+    qdot.segment(qo, 3) = y.segment(vo, 3);
+    qdot.segment(qo + 3, b.nqr) = work_[i].terms.qdot;
+  }
+  std::vector<Triplet> trip;
+  std::vector<double> rate;
+  int nmu = 0;
+  for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) {
+    const ConstraintBlock& blk = blocks_[j];
+    if (blk.mu_group < 0) continue;
+    const BlockEval& e = block_eval_[j];
+    for (int r = 0; r < blk.nr; ++r) {
+      for (int x = 0; x < 2; ++x) {
+        const int bi = blk.body_of_side[x];
+        if (bi == kGround) continue;
+        const int qo = groups_[bodies_[bi].q_group].offset;
+        for (int k = 0; k < e.phi_q[x].cols(); ++k)
+          if (e.phi_q[x](r, k) != 0.0) trip.emplace_back(nmu + r, qo + k, e.phi_q[x](r, k));
+      }
+      const LevelWeights& w = blk.mu_rows;
+      rate.push_back(blk.kind == ConstraintKind::Kinematic && w.velocity != 0.0 ? -w.position * e.phi(r) / w.velocity
+                                                                                : 0.0);
+    }
+    nmu += blk.nr;
+  }
+  if (nmu > 0) {
+    Sparse P(nmu, n_);
+    P.setFromTriplets(trip.begin(), trip.end());
+    const Sparse PPt = P * Sparse(P.transpose());
+    Eigen::SimplicialLDLT<Sparse> ldlt(PPt);
+    if (ldlt.info() != Eigen::Success) throw SolverError("the constraint matrix Phi_q Phi_q^T is singular");
+    const Eigen::VectorXd mu =
+        ldlt.solve(Eigen::VectorXd(P * qdot) - Eigen::Map<Eigen::VectorXd>(rate.data(), nmu));
+    qdot -= Sparse(P.transpose()) * mu;
+    int m = 0;
+    for (const ConstraintBlock& blk : blocks_) {
+      if (blk.mu_group < 0) continue;
+      y.segment(groups_[blk.mu_group].offset, blk.nr) = mu.segment(m, blk.nr);
+      m += blk.nr;
+    }
+  }
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const int qo = groups_[bodies_[i].q_group].offset;
+    yp.segment(qo, groups_[bodies_[i].q_group].size) = qdot.segment(qo, groups_[bodies_[i].q_group].size);
+  }
+}
+
+void MultibodyProblem::start(const Scene& scene) {
+  const double t0 = scene.time.start;
+  y0_.setZero(n_);
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const BodySpec& bs = spec_.bodies[i];
+    const BodyModel& b = bodies_[i];
+    VecQ q;
+    VecV v;
+    b.rep->from_physical(bs.R0_WB, bs.omega0_B, q, v);
+    const int qo = groups_[b.q_group].offset, vo = groups_[b.v_group].offset;
+    y0_.segment(qo, 3) = bs.x0_W;
+    y0_.segment(qo + 3, b.nqr) = q;
+    y0_.segment(vo, 3) = bs.v0_W;
+    y0_.segment(vo + 3, b.nvr) = v;
+  }
+  // Joint misses at the given poses.
+  evaluate(t0, y0_.data(), 2);
+  double worst = 0.0;
+  std::string worst_row;
+  for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) {
+    evaluate_block(j, y0_.data(), nullptr);
+    if (blocks_[j].internal) continue;
+    for (int r = 0; r < blocks_[j].nr; ++r) {
+      const double miss = std::abs(block_eval_[j].phi(r));
+      if (miss > spec_.start_tolerance)
+        throw InputError(fmt::format("{}: the initial poses miss the joint by {:.3g} (more than start_tolerance "
+                                     "{:g}); place the bodies so that the joint holds, or raise start_tolerance",
+                                     row_label(j, r), miss, spec_.start_tolerance));
+      if (miss > worst) worst = miss, worst_row = row_label(j, r);
+    }
+  }
+  // Redundant rows: a rank-revealing QR of G^T (columns = constraint rows).
+  {
+    Sparse G;
+    Eigen::VectorXd phi;
+    std::vector<int> row_block, row_index;
+    constraint_matrices(G, phi, &row_block, &row_index);
+    if (G.rows() > 0) {
+      Sparse Gt = G.transpose();
+      Gt.makeCompressed();
+      Eigen::SparseQR<Sparse, Eigen::COLAMDOrdering<int>> qr;
+      const double scale = std::max(1.0, Gt.coeffs().cwiseAbs().maxCoeff());
+      qr.setPivotThreshold(1e-10 * scale);
+      qr.compute(Gt);
+      const int rank = static_cast<int>(qr.rank());
+      if (rank < G.rows()) {
+        std::string rows;
+        const auto& perm = qr.colsPermutation().indices();
+        for (int k = rank; k < G.rows(); ++k) {
+          const int i = perm(k);
+          rows += "\n  " + row_label(row_block[i], row_index[i]);
+        }
+        throw InputError(fmt::format(
+            "{} of the {} constraint rows depend on the others at the start (the mechanism is overconstrained, "
+            "e.g. a closed loop of revolute joints): its reactions are not unique and the saddle-point system is "
+            "singular. Dependent rows:{}\nReplace a joint by one with fewer rows (a revolute by a universal or "
+            "spherical joint) so that these rows go.",
+            G.rows() - rank, G.rows(), rows));
+      }
+    }
+  }
+  Eigen::VectorXd v_before = y0_;
+  project(t0, y0_, yp0_);
+  if (worst > 1e-12)
+    warnings_.push_back(fmt::format("{}: the initial poses missed the joint by {:.3g}; projected onto the joints",
+                                    worst_row, worst));
+  double dv = 0.0;
+  for (const BodyModel& b : bodies_)
+    dv = std::max(dv, (y0_.segment(groups_[b.v_group].offset, groups_[b.v_group].size) -
+                       v_before.segment(groups_[b.v_group].offset, groups_[b.v_group].size))
+                          .cwiseAbs()
+                          .maxCoeff());
+  if (dv > 1e-10)
+    warnings_.push_back(fmt::format("initial velocities violated the joints; projected onto G v = 0 in the mass "
+                                    "metric (largest change {:.3g})",
+                                    dv));
+}
+
+void MultibodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
+  y = y0_;
+  yp = yp0_;
+  make_consistent(t0, y, yp);
+}
+
+std::pair<double, double> MultibodyProblem::drift(double t, const double* y) {
+  evaluate(t, y, 2);
+  double pos = 0.0, vel = 0.0;
+  for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) {
+    evaluate_block(j, y, nullptr);
+    const BlockEval& e = block_eval_[j];
+    pos = std::max(pos, max_abs(e.phi));
+    if (blocks_[j].kind == ConstraintKind::Force) {
+      vel = std::max(vel, max_abs(e.Gv));
+    } else {
+      const BodyWork& w = work_[blocks_[j].body];
+      const Eigen::VectorXd rate = e.phi_q[0].rightCols(w.st.nqr) * w.terms.qdot;
+      vel = std::max(vel, max_abs(rate));
+    }
+  }
+  return {pos, vel};
+}
+
+}  // namespace rigidae::multibody

@@ -1,0 +1,424 @@
+// The multibody DAE: construction, residual and exact iteration matrix
+// (see multibody_problem.hpp for the equations).
+#include <fmt/format.h>
+
+#include "rigidae/multibody/multibody_problem.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "rigidae/core/error.hpp"
+#include "rigidae/model/rigid_body.hpp"
+#include "rigidae/multibody/joints.hpp"
+#include "rigidae/so3/euler_sequence.hpp"
+
+namespace rigidae::multibody {
+
+namespace {
+
+using ConstMap = Eigen::Map<const Eigen::VectorXd>;
+
+// Baumgarte's default gains: the largest initial angular speed (at least 1/s),
+// as for one body (scene.hpp, baumgarte_gains).
+std::pair<double, double> gains(const Scene& scene, const MultibodySpec& spec) {
+  double rate = 1.0;
+  for (const BodySpec& b : spec.bodies) rate = std::max(rate, b.omega0_B.norm());
+  return {scene.formulation.baumgarte.a.value_or(rate), scene.formulation.baumgarte.b.value_or(rate)};
+}
+
+}  // namespace
+
+MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody) {
+  const auto [ga, gb] = gains(scene, spec_);
+  scheme_ = make_block_scheme(scene.formulation.scheme, ga, gb);
+  switch_threshold_ = scene.formulation.euler.switch_threshold;
+  switching_ = scene.formulation.euler.switching;
+  projection_threshold_ = projection_threshold(scene);
+  project_every_step_ = scene.formulation.projection.every_step;
+
+  // One-body scenes for the rotation blocks: reference point at the centre
+  // of mass, so no gravity torque and the inertia about the centre of mass.
+  Scene base = scene;
+  base.multibody.reset();
+  base.support = Support::Free;
+  base.body.com_B.setZero();
+  base.gravity_W = spec_.gravity_W;
+  int offset = 0;
+  for (const BodySpec& bs : spec_.bodies) {
+    Scene s = base;
+    s.body.mass = bs.mass;
+    s.body.inertia_com = bs.inertia_com;
+    s.R0_WB = bs.R0_WB;
+    s.omega0_B = bs.omega0_B;
+    s.formulation.coordinates = bs.coordinates.value_or(scene.formulation.coordinates);
+    BodyModel b;
+    b.name = bs.name;
+    b.mass = bs.mass;
+    b.inertia = bs.inertia_com;
+    b.coordinates = s.formulation.coordinates;
+    b.rep = make_representation(s, make_rigid_body_model(s));
+    const so3::EulerSequence seq =
+        b.rep->has_charts() ? so3::parse_euler_sequence(b.rep->chart_name(), false) : so3::EulerSequence{};
+    b.map = make_rotation_map(b.coordinates, seq);
+    b.nqr = b.rep->nq();
+    b.nvr = b.rep->nv();
+    b.q_group = static_cast<int>(groups_.size());
+    groups_.push_back({offset, 3 + b.nqr});
+    offset += 3 + b.nqr;
+    b.v_group = static_cast<int>(groups_.size());
+    groups_.push_back({offset, 3 + b.nvr});
+    offset += 3 + b.nvr;
+    bodies_.push_back(std::move(b));
+  }
+  n_state_ = offset;
+  nv_total_ = 0;
+  for (const BodyModel& b : bodies_) {
+    velocity_offset_.push_back(nv_total_);
+    nv_total_ += 3 + b.nvr;
+  }
+
+  const auto add_groups = [&](ConstraintBlock& blk) {
+    const KindRows& k = blk.kind == ConstraintKind::Force ? scheme_.force : scheme_.kinematic;
+    blk.lambda_rows = k.lambda_rows;
+    blk.mu_rows = k.mu_rows;
+    if (k.lambda) {
+      blk.lambda_group = static_cast<int>(groups_.size());
+      groups_.push_back({offset, blk.nr});
+      offset += blk.nr;
+    }
+    if (k.mu) {
+      blk.mu_group = static_cast<int>(groups_.size());
+      groups_.push_back({offset, blk.nr});
+      offset += blk.nr;
+    }
+    if (blk.lambda_group >= 0 || blk.mu_group >= 0) blocks_.push_back(std::move(blk));
+  };
+  for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) {
+    const Representation& rep = *bodies_[i].rep;
+    if (rep.nc() == 0) continue;
+    ConstraintBlock blk;
+    blk.internal = true;
+    blk.body = i;
+    blk.kind = rep.constraint_kind();
+    blk.nr = rep.nc();
+    blk.row_names = rep.constraint_names();
+    blk.body_of_side[0] = i;
+    add_groups(blk);
+  }
+  for (int j = 0; j < static_cast<int>(spec_.joints.size()); ++j) {
+    const JointSpec& js = spec_.joints[j];
+    // Not modelled yet: said, never silently dropped.
+    if (js.torsion_stiffness != 0.0 || js.torsion_damping != 0.0)
+      warnings_.push_back(fmt::format("joint '{}': its torsional spring-damper (stiffness {:g} N m/rad, damping {:g} "
+                                      "N m s/rad) is not modelled by the multibody assembler yet and is ignored",
+                                      js.name, js.torsion_stiffness, js.torsion_damping));
+    ConstraintBlock blk;
+    blk.joint = j;
+    blk.kind = ConstraintKind::Force;
+    blk.rows = joint_rows(js);
+    blk.nr = static_cast<int>(blk.rows.size());
+    for (const ConstraintRow& r : blk.rows) blk.row_names.push_back(r.name);
+    blk.body_of_side[0] = js.body_a;
+    blk.body_of_side[1] = js.body_b;
+    has_force_blocks_ = true;
+    add_groups(blk);
+  }
+  for (const ConstraintBlock& b : blocks_)
+    if (b.kind == ConstraintKind::Force) has_force_blocks_ = true;
+  n_ = offset;
+
+  work_.resize(bodies_.size());
+  for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) {
+    work_[i].st.lagrange = scene.formulation.equations == Equations::Lagrange;
+    work_[i].st.nqr = bodies_[i].nqr;
+    work_[i].st.nvr = bodies_[i].nvr;
+  }
+  block_eval_.resize(blocks_.size());
+  sink_ = std::make_unique<JacobianSink>(groups_);
+
+  start(scene);
+
+  // The pattern: every (row group, column group) pair the assembly writes.
+  sink_->start_recording();
+  assemble_jacobian(scene.time.start, 1.0, y0_.data(), yp0_.data(), *sink_);
+  for (const BodyModel& b : bodies_)
+    for (int g : {b.q_group, b.v_group}) sink_->add_diagonal(g, 0.0);
+  pattern_ = sink_->finish_recording();
+}
+
+void MultibodyProblem::evaluate(double t, const double* y, int order) {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const BodyModel& b = bodies_[i];
+    BodyWork& w = work_[i];
+    w.st.q = y + groups_[b.q_group].offset;
+    w.st.v = y + groups_[b.v_group].offset;
+    b.map->evaluate(w.st.q + 3, order, w.st.P);
+    const VecQ qr = ConstMap(w.st.q + 3, b.nqr);
+    const VecV vr = ConstMap(w.st.v + 3, b.nvr);
+    b.rep->evaluate(t, qr, vr, w.terms);
+  }
+}
+
+void MultibodyProblem::evaluate_block(int j, const double* /*y*/, const double* /*yp*/) {
+  const ConstraintBlock& blk = blocks_[j];
+  BlockEval& e = block_eval_[j];
+  if (!blk.internal) {
+    BlockSides sides;
+    for (int x = 0; x < 2; ++x) {
+      sides.body[x] = blk.body_of_side[x];
+      sides.state[x] = blk.body_of_side[x] == kGround ? nullptr : &work_[blk.body_of_side[x]].st;
+    }
+    evaluate_rows(blk.rows.data(), blk.nr, sides, e);
+    return;
+  }
+  const BodyWork& w = work_[blk.body];
+  const int nr = blk.nr, nq = w.st.nq(), nv = w.st.nv();
+  e.nr = nr;
+  e.phi = w.terms.phi;
+  e.phi_q[0].setZero(nr, nq);
+  e.phi_q[0].rightCols(w.st.nqr) = w.terms.phi_q;
+  e.G[0].setZero(nr, nv);
+  e.Gv.setZero(nr);
+  e.cacc.setZero(nr);
+  if (blk.kind == ConstraintKind::Force) {
+    e.G[0].rightCols(w.st.nvr) = w.terms.G;
+    for (int k = 0; k < w.st.nvr; ++k) e.Gv += w.terms.G.col(k) * w.st.v[3 + k];
+    e.cacc = -w.terms.gamma;
+  }
+  e.phi_q[1].resize(nr, 0);
+  e.G[1].resize(nr, 0);
+}
+
+void MultibodyProblem::differentiate_block(int j, const double* y, const double* yp) {
+  const ConstraintBlock& blk = blocks_[j];
+  BlockEval& e = block_eval_[j];
+  const double* lambda = blk.lambda_group >= 0 ? y + groups_[blk.lambda_group].offset : nullptr;
+  const double* mu = blk.mu_group >= 0 ? y + groups_[blk.mu_group].offset : nullptr;
+  if (!blk.internal) {
+    BlockSides sides;
+    const double* acc[2] = {nullptr, nullptr};
+    for (int x = 0; x < 2; ++x) {
+      const int b = blk.body_of_side[x];
+      sides.body[x] = b;
+      sides.state[x] = b == kGround ? nullptr : &work_[b].st;
+      if (b != kGround) acc[x] = yp + groups_[bodies_[b].v_group].offset;
+    }
+    differentiate_rows(blk.rows.data(), blk.nr, sides, acc, lambda, mu, e);
+    return;
+  }
+  const BodyWork& w = work_[blk.body];
+  const BodyModel& b = bodies_[blk.body];
+  const int nr = blk.nr, nq = w.st.nq(), nv = w.st.nv(), nqr = b.nqr;
+  const VecQ qr = ConstMap(w.st.q + 3, nqr);
+  for (BlockMatQ* m : {&e.dGv_q[0], &e.dGa_q[0], &e.dc_q[0], &e.dPqp_q[0]}) m->setZero(nr, nq);
+  e.dc_v[0].setZero(nr, nv);
+  e.HL[0][0].setZero(nv, nq);
+  e.HM[0][0].setZero(nq, nq);
+  for (int x = 0; x < 2; ++x)
+    for (int y2 = 0; y2 < 2; ++y2)
+      if (x + y2 > 0) {
+        e.HL[x][y2].resize(0, 0);
+        e.HM[x][y2].resize(0, 0);
+      }
+  for (BlockMatQ* m : {&e.dGv_q[1], &e.dGa_q[1], &e.dc_q[1], &e.dPqp_q[1]}) m->resize(nr, 0);
+  e.dc_v[1].resize(nr, 0);
+  MatCQ H;
+  MatQQ HH;
+  if (blk.kind == ConstraintKind::Force) {
+    const VecQ vr = ConstMap(w.st.v + 3, nqr);  // Lagrange form: v = q'
+    const VecQ ar = ConstMap(yp + groups_[b.v_group].offset + 3, nqr);
+    b.rep->constraint_hessian_applied(qr, vr, H);
+    e.dGv_q[0].rightCols(nqr) = H;
+    b.rep->constraint_hessian_applied(qr, ar, H);
+    e.dGa_q[0].rightCols(nqr) = H;
+    e.dc_q[0].rightCols(nqr) = -w.derivs.gamma_q;
+    e.dc_v[0].rightCols(b.nvr) = -w.derivs.gamma_v;
+    if (lambda) {
+      const VecC l = ConstMap(lambda, nr);
+      b.rep->constraint_hessian_weighted(qr, l, HH);
+      e.HL[0][0].bottomRightCorner(nqr, nqr) = HH;
+    }
+  } else {
+    const VecQ qp = ConstMap(yp + groups_[b.q_group].offset + 3, nqr);
+    b.rep->constraint_hessian_applied(qr, qp, H);
+    e.dPqp_q[0].rightCols(nqr) = H;
+  }
+  if (mu) {
+    const VecC m = ConstMap(mu, nr);
+    b.rep->constraint_hessian_weighted(qr, m, HH);
+    e.HM[0][0].bottomRightCorner(nqr, nqr) = HH;
+  }
+}
+
+bool MultibodyProblem::residual(double t, const double* y, const double* yp, double* F) {
+  for (BodyWork& w : work_) w.st.P.nq = 0;
+  evaluate(t, y, work_.empty() || work_[0].st.lagrange ? 2 : 1);
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const BodyModel& b = bodies_[i];
+    const BodyWork& w = work_[i];
+    const int qo = groups_[b.q_group].offset, vo = groups_[b.v_group].offset;
+    for (int k = 0; k < 3; ++k) {
+      F[qo + k] = yp[qo + k] - y[vo + k];
+      F[vo + k] = b.mass * yp[vo + k];
+    }
+    for (int k = 0; k < b.nqr; ++k) F[qo + 3 + k] = yp[qo + 3 + k] - w.terms.qdot(k);
+    for (int k = 0; k < b.nvr; ++k) {
+      double s = -w.terms.f(k);
+      for (int l = 0; l < b.nvr; ++l) s += w.terms.M(k, l) * yp[vo + 3 + l];
+      F[vo + 3 + k] = s;
+    }
+  }
+  add_forces(y, F);
+  for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) {
+    const ConstraintBlock& blk = blocks_[j];
+    evaluate_block(j, y, yp);
+    const BlockEval& e = block_eval_[j];
+    for (int r = 0; r < blk.nr; ++r) {
+      double vel = e.Gv(r), ga = 0.0;
+      if (blk.kind != ConstraintKind::Force) vel = 0.0;
+      for (int x = 0; x < 2; ++x) {
+        const int bi = blk.body_of_side[x];
+        if (bi == kGround) continue;
+        const BodyModel& b = bodies_[bi];
+        const int qo = groups_[b.q_group].offset, vo = groups_[b.v_group].offset;
+        for (int k = 0; k < e.G[x].cols(); ++k) ga += e.G[x](r, k) * yp[vo + k];
+        if (blk.kind != ConstraintKind::Force)
+          for (int k = 0; k < e.phi_q[x].cols(); ++k) vel += e.phi_q[x](r, k) * yp[qo + k];
+      }
+      const auto row = [&](const LevelWeights& w) {
+        return w.position * e.phi(r) + w.velocity * vel + w.acceleration * (ga + e.cacc(r));
+      };
+      if (blk.lambda_group >= 0) F[groups_[blk.lambda_group].offset + r] = row(blk.lambda_rows);
+      if (blk.mu_group >= 0) F[groups_[blk.mu_group].offset + r] = row(blk.mu_rows);
+    }
+    for (int x = 0; x < 2; ++x) {
+      const int bi = blk.body_of_side[x];
+      if (bi == kGround) continue;
+      const BodyModel& b = bodies_[bi];
+      if (blk.lambda_group >= 0) {
+        const double* l = y + groups_[blk.lambda_group].offset;
+        const int vo = groups_[b.v_group].offset;
+        for (int k = 0; k < e.G[x].cols(); ++k)
+          for (int r = 0; r < blk.nr; ++r) F[vo + k] += e.G[x](r, k) * l[r];
+      }
+      if (blk.mu_group >= 0) {
+        const double* m = y + groups_[blk.mu_group].offset;
+        const int qo = groups_[b.q_group].offset;
+        for (int k = 0; k < e.phi_q[x].cols(); ++k)
+          for (int r = 0; r < blk.nr; ++r) F[qo + k] += e.phi_q[x](r, k) * m[r];
+      }
+    }
+  }
+  for (int i = 0; i < n_; ++i)
+    if (!std::isfinite(F[i])) return false;
+  return true;
+}
+
+void MultibodyProblem::assemble_jacobian(double t, double cj, const double* y, const double* yp,
+                                         JacobianSink& sink) {
+  const bool lagrange = work_.empty() || work_[0].st.lagrange;
+  evaluate(t, y, lagrange ? 3 : 2);
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const BodyModel& b = bodies_[i];
+    BodyWork& w = work_[i];
+    const VecQ qr = ConstMap(w.st.q + 3, b.nqr);
+    const VecV vr = ConstMap(w.st.v + 3, b.nvr);
+    const VecV ar = ConstMap(yp + groups_[b.v_group].offset + 3, b.nvr);
+    b.rep->differentiate(t, qr, vr, ar, w.derivs);
+    const int Q = b.q_group, V = b.v_group;
+    sink.add_diagonal(Q, cj);
+    sink.add(Q, Q, 3, 3, -w.derivs.qdot_q);
+    sink.add(Q, V, 0, 0, -Mat3::Identity());
+    sink.add(Q, V, 3, 3, -w.derivs.N);
+    sink.add(V, Q, 3, 3, w.derivs.Ma_q - w.derivs.f_q);
+    sink.add(V, V, 0, 0, (cj * b.mass) * Mat3::Identity());
+    sink.add(V, V, 3, 3, cj * w.terms.M - w.derivs.f_v);
+  }
+  add_force_jacobian(y, sink);
+  BlockMatQ Aq;
+  BlockMatV Av;
+  for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) {
+    const ConstraintBlock& blk = blocks_[j];
+    evaluate_block(j, y, yp);
+    differentiate_block(j, y, yp);
+    const BlockEval& e = block_eval_[j];
+    const bool force = blk.kind == ConstraintKind::Force;
+    for (int x = 0; x < 2; ++x) {
+      const int bi = blk.body_of_side[x];
+      if (bi == kGround) continue;
+      const int Q = bodies_[bi].q_group, V = bodies_[bi].v_group;
+      const auto rows = [&](int group, const LevelWeights& w) {
+        if (group < 0) return;
+        Aq = w.position * e.phi_q[x] + w.acceleration * (e.dGa_q[x] + e.dc_q[x]);
+        if (force)
+          Aq += w.velocity * e.dGv_q[x];
+        else
+          Aq += w.velocity * (e.dPqp_q[x] + cj * e.phi_q[x]);
+        sink.add(group, Q, 0, 0, Aq);
+        if ((force && w.velocity != 0.0) || w.acceleration != 0.0) {
+          Av = w.acceleration * (cj * e.G[x] + e.dc_v[x]);
+          if (force) Av += w.velocity * e.G[x];
+          sink.add(group, V, 0, 0, Av);
+        }
+      };
+      rows(blk.lambda_group, blk.lambda_rows);
+      rows(blk.mu_group, blk.mu_rows);
+      for (int y2 = 0; y2 < 2; ++y2) {
+        const int by = blk.body_of_side[y2];
+        if (by == kGround) continue;
+        if (blk.lambda_group >= 0) sink.add(V, bodies_[by].q_group, 0, 0, e.HL[x][y2]);
+        if (blk.mu_group >= 0) sink.add(Q, bodies_[by].q_group, 0, 0, e.HM[x][y2]);
+      }
+      if (blk.lambda_group >= 0) sink.add(V, blk.lambda_group, 0, 0, e.G[x].transpose());
+      if (blk.mu_group >= 0) sink.add(Q, blk.mu_group, 0, 0, e.phi_q[x].transpose());
+    }
+  }
+}
+
+void MultibodyProblem::iteration_matrix_dense(double t, double cj, const double* y, const double* yp, double* J) {
+  std::fill(J, J + static_cast<std::size_t>(n_) * n_, 0.0);
+  sink_->start_dense(J, n_);
+  assemble_jacobian(t, cj, y, yp, *sink_);
+}
+
+void MultibodyProblem::iteration_matrix_sparse(double t, double cj, const double* y, const double* yp,
+                                               double* values) {
+  std::fill(values, values + pattern_.nnz(), 0.0);
+  sink_->start_sparse(values);
+  assemble_jacobian(t, cj, y, yp, *sink_);
+}
+
+void MultibodyProblem::differential_id(Eigen::Ref<Eigen::VectorXd> id) const {
+  id.setZero();
+  for (const BodyModel& b : bodies_) {
+    id.segment(groups_[b.q_group].offset, groups_[b.q_group].size).setOnes();
+    if (!(scheme_.index3 && has_force_blocks_))
+      id.segment(groups_[b.v_group].offset, groups_[b.v_group].size).setOnes();
+  }
+}
+
+// As for one body (ida_driver.cpp): the user's atol for q and v;
+// multipliers max(atol, rtol^(3/4)) relative to their size at the start.
+void MultibodyProblem::absolute_tolerances(double rtol, double atol, const Eigen::VectorXd& y0,
+                                           Eigen::Ref<Eigen::VectorXd> out) const {
+  out.setConstant(atol);
+  double scale = 1.0;
+  for (const ConstraintBlock& b : blocks_)
+    for (int g : {b.lambda_group, b.mu_group})
+      if (g >= 0) scale = std::max(scale, y0.segment(groups_[g].offset, groups_[g].size).cwiseAbs().maxCoeff());
+  for (const ConstraintBlock& b : blocks_)
+    for (int g : {b.lambda_group, b.mu_group})
+      if (g >= 0) out.segment(groups_[g].offset, groups_[g].size).setConstant(std::max(atol, std::pow(rtol, 0.75)) * scale);
+}
+
+std::string MultibodyProblem::row_label(int block, int row) const {
+  const ConstraintBlock& b = blocks_[block];
+  if (b.internal) return "body '" + bodies_[b.body].name + "' constraint '" + b.row_names[row] + "'";
+  const JointSpec& j = spec_.joints[b.joint];
+  std::string where;
+  if (!j.where.file.empty() || j.where.line > 0)
+    where = j.where.file + ":" + std::to_string(j.where.line) + ":" + std::to_string(j.where.column) + ": ";
+  return where + "joint '" + j.name + "' (" + joint_type_name(j.type) + ") row '" + b.row_names[row] + "'";
+}
+
+}  // namespace rigidae::multibody

@@ -1,0 +1,214 @@
+// Per-body and per-joint quantities for the recorder: orientation, angular
+// velocity, centre-of-mass motion, joint reactions and residuals, energy and
+// momentum. Not the hot path.
+//
+// Joint reactions from the multipliers, on body b at its joint point p_b, in
+// space: a coincident-points row k carries the force lambda_k e_k on b; a
+// point-on-line row with normal n (fixed in a) the force -lambda n on b; a
+// perpendicular pair d_a . d_b the torque lambda (d_a x d_b) on b. When b is
+// the ground the reaction on a is reported (the negatives, moved to p_a).
+#include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/so3/rotation.hpp"
+
+namespace rigidae::multibody {
+
+namespace {
+using ConstMap = Eigen::Map<const Eigen::VectorXd>;
+}
+
+Vec4 MultibodyProblem::body_orientation(int i, const double* y) const {
+  const BodyModel& b = bodies_[i];
+  return b.rep->orientation(ConstMap(y + groups_[b.q_group].offset + 3, b.nqr));
+}
+
+Vec3 MultibodyProblem::body_omega_space(int i, const double* y) const {
+  const BodyModel& b = bodies_[i];
+  const VecQ q = ConstMap(y + groups_[b.q_group].offset + 3, b.nqr);
+  const VecV v = ConstMap(y + groups_[b.v_group].offset + 3, b.nvr);
+  const Vec4 qu = b.rep->orientation(q);
+  return so3::quaternion_to_matrix(qu) * b.rep->body_angular_velocity(q, v);
+}
+
+Vec3 MultibodyProblem::body_position(int i, const double* y) const {
+  return ConstMap(y + groups_[bodies_[i].q_group].offset, 3);
+}
+
+Vec3 MultibodyProblem::body_velocity(int i, const double* y) const {
+  return ConstMap(y + groups_[bodies_[i].v_group].offset, 3);
+}
+
+namespace {
+int block_of_joint(const std::vector<ConstraintBlock>& blocks, int joint) {
+  for (int j = 0; j < static_cast<int>(blocks.size()); ++j)
+    if (!blocks[j].internal && blocks[j].joint == joint) return j;
+  return -1;
+}
+}  // namespace
+
+JointReaction MultibodyProblem::joint_reaction(int joint, const double* y) {
+  JointReaction out;
+  const int j = block_of_joint(blocks_, joint);
+  if (j < 0 || blocks_[j].lambda_group < 0) return out;
+  if (y != evaluated_y_) evaluate(0.0, y, 2);
+  const ConstraintBlock& blk = blocks_[j];
+  const double* lambda = y + groups_[blk.lambda_group].offset;
+  const JointSpec& js = spec_.joints[joint];
+  VectorEval e[2];
+  Vec3 pa = js.point_a, pb = js.point_b;
+  if (js.body_a != kGround) {
+    evaluate_vector(work_[js.body_a].st, {js.body_a, js.point_a, true}, e[0]);
+    pa = e[0].value;
+  }
+  if (js.body_b != kGround) {
+    evaluate_vector(work_[js.body_b].st, {js.body_b, js.point_b, true}, e[1]);
+    pb = e[1].value;
+  }
+  VectorEval ta, tb;
+  for (int r = 0; r < blk.nr; ++r) {
+    const ConstraintRow& row = blk.rows[r];
+    if (row.n_terms == 2 && row.terms[0].a.point && row.terms[0].b.body == kGround && !row.terms[0].b.point &&
+        row.terms[1].a.point) {
+      // Coincident points: p_a . e_k - p_b . e_k.
+      out.force += lambda[r] * row.terms[0].b.s;
+    } else if (row.n_terms == 2) {
+      // Point on a line: p_b . n - p_a . n, n fixed in a.
+      const BodyVector& n = row.terms[0].b;
+      Vec3 nw = n.s;
+      if (n.body != kGround) {
+        evaluate_vector(work_[n.body].st, n, ta);
+        nw = ta.value;
+      }
+      out.force -= lambda[r] * nw;
+    } else {
+      const DotTerm& t = row.terms[0];
+      Vec3 da = t.a.s, db = t.b.s;
+      if (t.a.body != kGround) evaluate_vector(work_[t.a.body].st, t.a, ta), da = ta.value;
+      if (t.b.body != kGround) evaluate_vector(work_[t.b.body].st, t.b, tb), db = tb.value;
+      out.torque += lambda[r] * da.cross(db);
+    }
+  }
+  // A point-on-line force acts at p_b; on a it acts at p_b too, so moved to p_a
+  // it adds (p_b - p_a) x F.
+  if (js.body_b == kGround) {
+    out.torque = -out.torque - (pb - pa).cross(out.force);
+    out.force = -out.force;
+  }
+  return out;
+}
+
+std::pair<double, double> MultibodyProblem::joint_residuals(int joint, const double* y) {
+  const int j = block_of_joint(blocks_, joint);
+  if (j < 0) return {0.0, 0.0};
+  if (y != evaluated_y_) evaluate(0.0, y, 2);
+  evaluate_block(j, y, nullptr);
+  const BlockEval& e = block_eval_[j];
+  return {e.phi.norm(), e.Gv.norm()};
+}
+
+double MultibodyProblem::kinetic_energy(const double* y) const {
+  double T = 0.0;
+  for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) {
+    const BodyModel& b = bodies_[i];
+    const VecQ q = ConstMap(y + groups_[b.q_group].offset + 3, b.nqr);
+    const VecV v = ConstMap(y + groups_[b.v_group].offset + 3, b.nvr);
+    const Vec3 w = b.rep->body_angular_velocity(q, v);
+    T += 0.5 * b.mass * body_velocity(i, y).squaredNorm() + 0.5 * w.dot(b.inertia * w);
+  }
+  return T;
+}
+
+// Gravity, springs, and constant space forces (their potential -F . x).
+double MultibodyProblem::potential_energy(const double* y) {
+  double V = 0.0;
+  for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) V -= bodies_[i].mass * spec_.gravity_W.dot(body_position(i, y));
+  for (const BodyLoadSpec& l : spec_.loads)
+    if (!l.body_frame) V -= l.force.dot(body_position(l.body, y));
+  if (y != evaluated_y_) evaluate(0.0, y, 2);
+  VectorEval e;
+  for (const SpringSpec& s : spec_.springs) {
+    Vec3 p[2] = {s.point_a, s.point_b};
+    const int body[2] = {s.body_a, s.body_b};
+    for (int k = 0; k < 2; ++k)
+      if (body[k] != kGround) {
+        evaluate_vector(work_[body[k]].st, {body[k], p[k], true}, e);
+        p[k] = e.value;
+      }
+    const double stretch = (p[1] - p[0]).norm() - s.rest_length;
+    V += 0.5 * s.stiffness * stretch * stretch;
+  }
+  return V;
+}
+
+Vec3 MultibodyProblem::linear_momentum(const double* y) const {
+  Vec3 P = Vec3::Zero();
+  for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) P += bodies_[i].mass * body_velocity(i, y);
+  return P;
+}
+
+Vec3 MultibodyProblem::angular_momentum(const double* y) const {
+  Vec3 L = Vec3::Zero();
+  for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) {
+    const BodyModel& b = bodies_[i];
+    const VecQ q = ConstMap(y + groups_[b.q_group].offset + 3, b.nqr);
+    const VecV v = ConstMap(y + groups_[b.v_group].offset + 3, b.nvr);
+    const Mat3 R = so3::quaternion_to_matrix(b.rep->orientation(q));
+    L += body_position(i, y).cross(b.mass * body_velocity(i, y)) + R * (b.inertia * b.rep->body_angular_velocity(q, v));
+  }
+  return L;
+}
+
+}  // namespace rigidae::multibody
+
+namespace rigidae::multibody {
+
+std::vector<std::string> MultibodyProblem::output_names() const {
+  std::vector<std::string> n;
+  for (const BodyModel& b : bodies_)
+    for (const char* c : {"qw", "qx", "qy", "qz", "wx", "wy", "wz", "x", "y", "z", "vx", "vy", "vz"})
+      n.push_back(b.name + "." + c);
+  for (const JointSpec& j : spec_.joints)
+    for (const char* c : {"force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z", "phi", "phi_dot"})
+      n.push_back(j.name + "." + c);
+  for (const char* c : {"energy", "p_x", "p_y", "p_z", "L_x", "L_y", "L_z"}) n.push_back(c);
+  return n;
+}
+
+std::vector<std::string> MultibodyProblem::output_units() const {
+  std::vector<std::string> u;
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    for (const char* c : {"1", "1", "1", "1", "rad/s", "rad/s", "rad/s", "m", "m", "m", "m/s", "m/s", "m/s"})
+      u.push_back(c);
+  for (std::size_t j = 0; j < spec_.joints.size(); ++j)
+    for (const char* c : {"N", "N", "N", "N m", "N m", "N m", "m|1", "m/s|1/s"}) u.push_back(c);
+  for (const char* c : {"J", "N s", "N s", "N s", "N m s", "N m s", "N m s"}) u.push_back(c);
+  return u;
+}
+
+void MultibodyProblem::output_row(const double* y, double* out) {
+  // One evaluation of every body serves all joints (O(bodies + joints)).
+  evaluate(0.0, y, 2);
+  evaluated_y_ = y;
+  int k = 0;
+  for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) {
+    const Vec4 q = body_orientation(i, y);
+    const Vec3 w = body_omega_space(i, y), x = body_position(i, y), v = body_velocity(i, y);
+    for (int c = 0; c < 4; ++c) out[k++] = q(c);
+    for (const Vec3* a : {&w, &x, &v})
+      for (int c = 0; c < 3; ++c) out[k++] = (*a)(c);
+  }
+  for (int j = 0; j < static_cast<int>(spec_.joints.size()); ++j) {
+    const JointReaction r = joint_reaction(j, y);
+    const auto [phi, phidot] = joint_residuals(j, y);
+    for (const Vec3* a : {&r.force, &r.torque})
+      for (int c = 0; c < 3; ++c) out[k++] = (*a)(c);
+    out[k++] = phi;
+    out[k++] = phidot;
+  }
+  out[k++] = kinetic_energy(y) + potential_energy(y);
+  const Vec3 p = linear_momentum(y), L = angular_momentum(y);
+  for (const Vec3* a : {&p, &L})
+    for (int c = 0; c < 3; ++c) out[k++] = (*a)(c);
+  evaluated_y_ = nullptr;
+}
+
+}  // namespace rigidae::multibody

@@ -1,0 +1,103 @@
+// `rigidae solve` on every shipped multibody scene (schema 2), as a user runs
+// it: each one finishes with exit 0 and its files; and the absolute-coordinate
+// heavy top (a free body held by a spherical joint) ends where the one-body
+// pivoted heavy top ends, an independent model of the same motion.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_runner.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kProblems = std::string(RIGIDAE_SOURCE_DIR) + "/problems/";
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string cell;
+  while (std::getline(ss, cell, ',')) out.push_back(cell);
+  return out;
+}
+
+// The last row of trajectory.csv, the named columns (# comment lines skipped).
+std::vector<double> last_row(const fs::path& csv, const std::vector<std::string>& columns) {
+  std::ifstream in(csv);
+  REQUIRE(in);
+  std::string line, header, last;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    if (header.empty())
+      header = line;
+    else
+      last = line;
+  }
+  const std::vector<std::string> names = split(header), values = split(last);
+  REQUIRE(names.size() == values.size());
+  std::vector<double> out;
+  for (const std::string& c : columns) {
+    std::size_t k = 0;
+    while (k < names.size() && names[k] != c) ++k;
+    REQUIRE_MESSAGE(k < names.size(), "no column " << c << " in " << csv);
+    out.push_back(std::stod(values[k]));
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("multibody cli: every shipped multibody scene solves (short span) with exit 0 and writes its files") {
+  for (const char* name : {"heavy_top_absolute", "double_pendulum", "four_bar", "slider_mechanism", "chain_10"}) {
+    CAPTURE(name);
+    const fs::path dir = rigidae::test::fresh_temp_dir(std::string("mb_") + name);
+    const rigidae::test::CliResult r =
+        rigidae::test::run_cli("solve " + kProblems + name + ".toml --t-end 0.2 --quiet --out " + dir.string());
+    CAPTURE(r.output);
+    CHECK(r.exit_code == 0);
+    for (const char* f : {"steps.csv", "trajectory.csv", "events.csv", "summary.json"})
+      CHECK(fs::exists(dir / f));
+    // The output grid reaches t_end.
+    CHECK(std::abs(last_row(dir / "trajectory.csv", {"t"})[0] - 0.2) < 1e-12);
+  }
+}
+
+TEST_CASE("multibody cli: heavy_top_absolute ends at heavy_top's orientation (same t_end, rtol 1e-8)") {
+  // Both files: t_end = 2 s, rtol = atol = 1e-8, the same top and start. The
+  // two models differ in coordinates (6 + 4 plus 3 joint multipliers against
+  // a pivoted quaternion), so they agree to the integration error only: at
+  // rtol 1e-8 over 2 s of a 150 rad/s spin the measured difference is
+  // 5.1e-6; the bound 1e-4 leaves room for the error's growth and still
+  // fails for a wrong joint point, mass or inertia (those move q by O(1)).
+  const fs::path a = rigidae::test::fresh_temp_dir("mb_top_abs"), b = rigidae::test::fresh_temp_dir("mb_top");
+  const auto ra = rigidae::test::run_cli("solve " + kProblems + "heavy_top_absolute.toml --quiet --out " + a.string());
+  const auto rb = rigidae::test::run_cli("solve " + kProblems + "heavy_top.toml --quiet --out " + b.string());
+  REQUIRE_MESSAGE(ra.exit_code == 0, ra.output);
+  REQUIRE_MESSAGE(rb.exit_code == 0, rb.output);
+  const std::vector<double> qa = last_row(a / "trajectory.csv", {"t", "top.qw", "top.qx", "top.qy", "top.qz"});
+  const std::vector<double> qb = last_row(b / "trajectory.csv", {"t", "qw", "qx", "qy", "qz"});
+  CHECK(qa[0] == doctest::Approx(2.0).epsilon(1e-12));
+  CHECK(qb[0] == doctest::Approx(2.0).epsilon(1e-12));
+  // q and -q are one orientation.
+  double plus = 0, minus = 0;
+  for (int k = 1; k <= 4; ++k) {
+    plus = std::max(plus, std::abs(qa[k] - qb[k]));
+    minus = std::max(minus, std::abs(qa[k] + qb[k]));
+  }
+  const double diff = std::min(plus, minus);
+  MESSAGE("heavy top: |q_absolute - q_pivoted|_max at t = 2 s: " << diff);
+  CHECK(diff < 1e-4);
+}
+
+TEST_CASE("multibody cli: compare refuses a multibody scene with exit 2, a message and no output folder") {
+  const fs::path dir = rigidae::test::fresh_temp_dir("mb_compare") / "out";
+  const auto r = rigidae::test::run_cli("compare " + kProblems + "double_pendulum.toml --quiet --out " + dir.string());
+  CAPTURE(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("does not run multibody scenes") != std::string::npos);
+  CHECK(!fs::exists(dir));
+}
