@@ -71,16 +71,7 @@ void MemoryRecorder::on_step(double t, double h, int order, const Eigen::VectorX
     const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
     append(steps_, columns::kSteps, columns::Sample{t, h, order, &o, chart});
   }
-  // As RunRecorder::on_step.
-  RunExtremes& e = extremes_;
-  ++e.steps_recorded;
-  e.max_drift_position = std::max(e.max_drift_position, o.drift.position);
-  e.max_drift_velocity = std::max(e.max_drift_velocity, o.drift.velocity);
-  e.max_abs_energy_error = std::max(e.max_abs_energy_error, std::abs(o.energy_error));
-  e.max_abs_vertical_momentum_error = std::max(e.max_abs_vertical_momentum_error, std::abs(o.vertical_momentum_error));
-  e.multiplier_min = e.multiplier_min.cwiseMin(o.multipliers);
-  e.multiplier_max = e.multiplier_max.cwiseMax(o.multipliers);
-  e.last = o;
+  extremes_.add_step(o);
 }
 
 void MemoryRecorder::on_output(double t, const Eigen::VectorXd& y) {

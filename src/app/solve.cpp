@@ -1,6 +1,7 @@
 #include "rigidae/app/solve.hpp"
 
 #include "solve_multibody.hpp"
+#include "counters_json.hpp"
 
 #include <fmt/format.h>
 
@@ -138,20 +139,7 @@ nlohmann::json summary(const Scene& scene, const SolveOutcome& o) {
       {"t_reached", o.run.t_reached},
       {"wall_time_s", o.wall_seconds},
       {"initial_residual_max_abs", o.run.initial_residual},
-      {"counters",
-       {{"steps", c.steps},
-        {"residual_evals", c.residual_evals},
-        {"jacobian_evals", c.jacobian_evals},
-        {"jacobian_residual_evals", c.jacobian_residual_evals},
-        {"nonlinear_iters", c.nonlinear_iters},
-        {"nonlinear_conv_fails", c.nonlinear_conv_fails},
-        {"error_test_fails", c.error_test_fails},
-        {"linear_setups", c.linear_setups},
-        {"root_evals", c.root_evals},
-        {"restarts", c.restarts},
-        {"projections", c.projections},
-        {"last_step", c.last_step},
-        {"last_order", c.last_order}}},
+      {"counters", counters_json(c)},
       {"chart_switch_count", o.run.switch_count},
       {"chart_switches", switches},  // the first kSwitchesKept; events.csv has them all
       {"maxima",

@@ -1,6 +1,7 @@
 // One run of a multibody scene: the MultibodyProblem through the IDA
 // driver, streamed by MultibodyRecorder, and summary.json.
 #include "solve_multibody.hpp"
+#include "counters_json.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -62,16 +63,7 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
       {"jacobian", scene.solver.jacobian},
       {"linear_solver", scene.solver.linear_solver},
       {"warnings", problem.warnings()},
-      {"counters",
-       {{"steps", c.steps},
-        {"residual_evals", c.residual_evals},
-        {"jacobian_evals", c.jacobian_evals},
-        {"jacobian_residual_evals", c.jacobian_residual_evals},
-        {"nonlinear_iters", c.nonlinear_iters},
-        {"nonlinear_conv_fails", c.nonlinear_conv_fails},
-        {"error_test_fails", c.error_test_fails},
-        {"restarts", c.restarts},
-        {"projections", c.projections}}},
+      {"counters", counters_json(c)},
       {"maxima",
        {{"drift_position", o.extremes.max_drift_position},
         {"drift_velocity", o.extremes.max_drift_velocity},

@@ -9,6 +9,8 @@
 // the files are flushed when the run ends, however it ends.
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -30,6 +32,18 @@ struct RunExtremes {
   double max_abs_vertical_momentum_error = 0.0;
   Eigen::VectorXd multiplier_min, multiplier_max;
   Observation last;  // at the last recorded step (or the start)
+
+  // Takes in one accepted step's observation (every recorder keeps the same maxima).
+  void add_step(const Observation& o) {
+    ++steps_recorded;
+    max_drift_position = std::max(max_drift_position, o.drift.position);
+    max_drift_velocity = std::max(max_drift_velocity, o.drift.velocity);
+    max_abs_energy_error = std::max(max_abs_energy_error, std::abs(o.energy_error));
+    max_abs_vertical_momentum_error = std::max(max_abs_vertical_momentum_error, std::abs(o.vertical_momentum_error));
+    multiplier_min = multiplier_min.cwiseMin(o.multipliers);
+    multiplier_max = multiplier_max.cwiseMax(o.multipliers);
+    last = o;
+  }
 };
 
 // A CSV file: units comment, header, then rows; every write checked
