@@ -139,7 +139,6 @@ constexpr double kUnitTolError = 1e-6;           // | |q| - 1 |, ||R^T R - I||_F
 constexpr double kUnitTolSilent = 1e-12;         // below: fixed without a warning
 
 
-std::string fmt_vec(const Vec3& v) { return fmt::format("({}, {}, {})", v[0], v[1], v[2]); }
 // Computed values (not the user's digits): round-off shown as such would only distract.
 std::string fmt_vec6(const Vec3& v) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", v[0], v[1], v[2]); }
 
