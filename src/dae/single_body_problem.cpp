@@ -91,18 +91,8 @@ StepAction SingleBodyProblem::after_step(double t, double h, Eigen::VectorXd& y,
       before.velocity <= projection_.threshold)
     return StepAction::proceed();
   dae_.project(chart_, t, y, yp);
-  EventNote note;
-  note.t = t;
-  note.what = "projection";
-  note.drift_position = before.position;
-  note.drift_velocity = before.velocity;
-  events_.push_back(std::move(note));
-  // The step size is carried over; the order and the history are lost.
-  StepAction restart;
-  restart.kind = StepAction::Kind::Restart;
-  restart.restart_step = h;
-  restart.projected = true;
-  return restart;
+  events_.push_back(EventNote::projection(t, before.position, before.velocity));
+  return StepAction::restart_after_projection(h);
 }
 
 std::vector<EventNote> SingleBodyProblem::take_events() {

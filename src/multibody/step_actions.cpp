@@ -96,16 +96,8 @@ StepAction MultibodyProblem::after_step(double t, double h, Eigen::VectorXd& y, 
     const auto [pos, vel] = drift(t, y.data());
     if (project_every_step_ || pos > projection_threshold_ || vel > projection_threshold_) {
       project(t, y, yp);
-      EventNote note;
-      note.t = t;
-      note.what = "projection";
-      note.drift_position = pos;
-      note.drift_velocity = vel;
-      events_.push_back(note);
-      // The step size is carried over; the order and the history are lost.
-      a.kind = StepAction::Kind::Restart;
-      a.restart_step = h;
-      a.projected = true;
+      events_.push_back(EventNote::projection(t, pos, vel));
+      a = StepAction::restart_after_projection(h);
     }
   }
   return a;

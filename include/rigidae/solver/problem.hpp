@@ -47,6 +47,15 @@ struct StepAction {
   bool projected = false;     // the restart is a projection onto the constraints (counted)
 
   static StepAction proceed() { return {}; }
+  // After a projection at a step of size h: IDA keeps no memory across the
+  // restart, so the step size is carried over; the order and the history are lost.
+  static StepAction restart_after_projection(double h) {
+    StepAction a;
+    a.kind = Kind::Restart;
+    a.restart_step = h;
+    a.projected = true;
+    return a;
+  }
 };
 
 // Receives the problem's own events as they happen (chart switches,
@@ -59,6 +68,16 @@ struct EventNote {
   double margin = 0.0;            // chart margin where it was left
   double drift_position = 0.0;    // before a projection
   double drift_velocity = 0.0;
+
+  // A projection at t, with the drift just before it.
+  static EventNote projection(double t, double drift_position, double drift_velocity) {
+    EventNote e;
+    e.t = t;
+    e.what = "projection";
+    e.drift_position = drift_position;
+    e.drift_velocity = drift_velocity;
+    return e;
+  }
 };
 
 class DaeProblem {
