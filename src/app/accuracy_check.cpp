@@ -86,25 +86,31 @@ void InvariantMonitor::on_step(double t, double h, int order, const Eigen::Vecto
 }
 
 std::vector<AccuracyWarning> InvariantMonitor::warnings() const {
+  return drift_warnings(d_, steps_,
+                        {"relative to the kinetic plus exchangeable energy", "|L - L0| relative to the largest momentum",
+                         "relative to the largest momentum", "|Phi(q)|",
+                         "|dPhi/dt| relative to the largest angular speed"});
+}
+
+std::vector<AccuracyWarning> drift_warnings(const InvariantDrifts& d, long steps, const DriftMeanings& what) {
   std::vector<AccuracyWarning> w;
-  const double n = static_cast<double>(std::max<long>(steps_, 1));
-  auto check = [&](const char* quantity, double drift, double factor, const char* law, const char* what) {
+  const double n = static_cast<double>(std::max<long>(steps, 1));
+  auto check = [&](const char* quantity, double drift, double factor, const char* law, const std::string& meaning) {
     if (std::isnan(drift)) return;
-    const double limit = factor * d_.tolerance;
+    const double limit = factor * d.tolerance;
     if (!(drift > limit) && std::isfinite(drift)) return;
-    w.push_back({quantity, drift, limit, factor, d_.tolerance,
+    w.push_back({quantity, drift, limit, factor, d.tolerance,
                  fmt::format("{} drifted {:.2e} ({}), {:.3g} x the tolerance {:.2e}, past the limit {} = {:.3g} x "
                              "over {} steps: the results may be far less accurate than the tolerance suggests",
-                             quantity, drift, what, drift / d_.tolerance, d_.tolerance, law, factor, steps_)});
+                             quantity, drift, meaning, drift / d.tolerance, d.tolerance, law, factor, steps)});
   };
   const double walk = kInvariantRandomWalkLimit * std::sqrt(n), per_step = kConstraintPerStepLimit * n;
-  check("energy", d_.energy, walk, "2 tau sqrt(N)", "relative to the kinetic plus exchangeable energy");
-  check("angular_momentum", d_.angular_momentum, walk, "2 tau sqrt(N)", "|L - L0| relative to the largest momentum");
-  check("vertical_angular_momentum", d_.vertical_angular_momentum, walk, "2 tau sqrt(N)",
-        "relative to the largest momentum");
-  check("constraint_position", d_.constraint_position, per_step, "10 tau N", "|Phi(q)|");
-  check("constraint_velocity", d_.constraint_velocity, per_step, "10 tau N",
-        "|dPhi/dt| relative to the largest angular speed");
+  check("energy", d.energy, walk, "2 tau sqrt(N)", what.energy);
+  check("angular_momentum", d.angular_momentum, walk, "2 tau sqrt(N)", what.angular_momentum);
+  check("vertical_angular_momentum", d.vertical_angular_momentum, walk, "2 tau sqrt(N)",
+        what.vertical_angular_momentum);
+  check("constraint_position", d.constraint_position, per_step, "10 tau N", what.constraint_position);
+  check("constraint_velocity", d.constraint_velocity, per_step, "10 tau N", what.constraint_velocity);
   return w;
 }
 

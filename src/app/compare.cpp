@@ -19,6 +19,8 @@
 #include "rigidae/solver/ida_driver.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/so3/rotation.hpp"
+#include "rigidae/settings/settings.hpp"
+#include "rigidae/solver/integrators.hpp"
 
 namespace rigidae {
 
@@ -28,6 +30,8 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kAnyScheme = "any";
 // The scheme an Euler-angle run uses: all give it the same ODE.
 constexpr const char* kSchemeForUnconstrained = "ggl";
+constexpr const char* kIda = "ida";
+constexpr const char* kArkodeErk = "arkode-erk";
 
 double median(std::vector<double> v) {
   if (v.empty()) return kNaN;
@@ -43,39 +47,125 @@ std::string sci(double x, int digits = 1) {
 
 }  // namespace
 
+std::string IntegratorChoice::label() const {
+  return erk_method.empty() ? integrator : integrator + ":" + erk_method;
+}
+
+std::string Combination::integrator_label() const { return IntegratorChoice{integrator, erk_method}.label(); }
+
 std::string Combination::name() const {
-  return fmt::format("{}/{}/{}", to_string(coordinates), to_string(equations), scheme);
+  const std::string base = fmt::format("{}/{}/{}", to_string(coordinates), to_string(equations), scheme);
+  return integrator == kIda ? base : base + "@" + integrator_label();
 }
 
 std::string Combination::folder() const {
-  return fmt::format("{}-{}-{}", to_string(coordinates), to_string(equations), scheme);
+  const std::string base = fmt::format("{}-{}-{}", to_string(coordinates), to_string(equations), scheme);
+  if (integrator == kIda) return base;
+  return base + "-" + integrator + (erk_method.empty() ? "" : "-" + erk_method);
 }
 
 Scene Combination::applied_to(const Scene& scene) const {
   Scene s = scene;
   s.formulation.coordinates = coordinates;
   s.formulation.equations = equations;
-  s.formulation.scheme = scheme == kAnyScheme ? kSchemeForUnconstrained : scheme;
+  s.solver.integrator = integrator;
+  if (!erk_method.empty()) s.solver.erk_method = erk_method;
+  if (scheme != kAnyScheme) {
+    s.formulation.scheme = scheme;
+  } else {
+    // No constraint: the ODE integrators' own default (the projection scheme), IDA's ggl.
+    const std::string ode_default = settings::default_scheme(integrator);
+    s.formulation.scheme = ode_default.empty() ? kSchemeForUnconstrained : ode_default;
+  }
   return s;
 }
 
+IntegratorChoice parse_integrator_choice(const std::string& text, const std::string& default_erk_method,
+                                         const std::string& where) {
+  const std::size_t colon = text.find(':');
+  IntegratorChoice c{text.substr(0, colon), ""};
+  const std::vector<std::string> names = integrator_names();
+  const bool known = std::find(names.begin(), names.end(), c.integrator) != names.end();
+  const std::vector<std::string> methods = erk_method_names();
+  const bool erk = c.integrator == kArkodeErk;
+  if (erk) c.erk_method = colon == std::string::npos ? default_erk_method : text.substr(colon + 1);
+  const bool method_ok = !erk || std::find(methods.begin(), methods.end(), c.erk_method) != methods.end();
+  if (!known || !method_ok || (!erk && colon != std::string::npos))
+    throw InputError(fmt::format("{}unknown integrator '{}'; valid: {}", where.empty() ? "" : where + ": ", text,
+                                 integrator_choices_text()));
+  return c;
+}
+
+std::string integrator_choices_text() {
+  std::string s;
+  for (const std::string& i : integrator_names()) {
+    s += (s.empty() ? "" : ", ") + i;
+    if (i == kArkodeErk)
+      for (const std::string& m : erk_method_names()) s += ", " + i + ":" + m;
+  }
+  return s;
+}
+
+bool multibody_integrator(const std::string& integrator) { return integrator == kIda; }
+
 std::vector<Combination> all_combinations() {
+  Scene single_body;
+  return combinations_for(single_body, {{kIda, ""}});
+}
+
+std::vector<Combination> combinations_for(const Scene& scene, const std::vector<IntegratorChoice>& integrators,
+                                          const std::string& where) {
   std::vector<Combination> all;
-  for (Coordinates c : {Coordinates::EulerAngles, Coordinates::Quaternion, Coordinates::Linear})
-    for (Equations e : {Equations::Lagrange, Equations::Euler}) {
-      if (c == Coordinates::EulerAngles) {
-        all.push_back({c, e, kAnyScheme});
-        continue;
+  for (const IntegratorChoice& ic : integrators) {
+    const IntegratorInfo& info = find_integrator(ic.integrator, where);
+    if (scene.multibody && !multibody_integrator(ic.integrator))
+      throw InputError(fmt::format("{}integrator '{}' does not run multibody scenes: bodies and joints "
+                                   "(schema_version = 2) run on ida only (the DAE; the multibody ODE form is not "
+                                   "built yet)",
+                                   where.empty() ? "" : where + ": ", ic.label()));
+    auto runs = [&](const std::string& scheme) {
+      return info.schemes.empty() || std::find(info.schemes.begin(), info.schemes.end(), scheme) != info.schemes.end();
+    };
+    for (Coordinates c : {Coordinates::EulerAngles, Coordinates::Quaternion, Coordinates::Linear})
+      for (Equations e : {Equations::Lagrange, Equations::Euler}) {
+        if (c == Coordinates::EulerAngles && !scene.multibody) {
+          all.push_back({c, e, kAnyScheme, ic.integrator, ic.erk_method});
+          continue;
+        }
+        for (const std::string& s : scheme_names())
+          if (runs(s)) all.push_back({c, e, s, ic.integrator, ic.erk_method});
       }
-      for (const std::string& s : scheme_names()) all.push_back({c, e, s});
-    }
+  }
   return all;
 }
 
-bool matches(const Combination& c, const std::string& pattern) {
-  if (pattern.find('/') != std::string::npos) return fnmatch(pattern.c_str(), c.name().c_str(), 0) == 0;
+std::vector<IntegratorChoice> default_integrators(const Scene& scene) {
+  std::vector<IntegratorChoice> out;
+  for (const IntegratorInfo& i : integrators()) {
+    if (scene.multibody && !multibody_integrator(i.name)) continue;
+    out.push_back({i.name, i.name == kArkodeErk ? scene.solver.erk_method : ""});
+  }
+  return out;
+}
+
+bool matches(const Combination& c, const std::string& pattern, const std::string& default_integrator) {
+  const std::size_t at = pattern.find('@');
+  std::string combo = pattern.substr(0, at);
+  std::string integrator = at == std::string::npos ? default_integrator : pattern.substr(at + 1);
+  const std::vector<std::string> names = integrator_names();
+  const std::string word = combo.substr(0, combo.find(':'));
+  if (at == std::string::npos && std::find(names.begin(), names.end(), word) != names.end()) {
+    integrator = combo;  // a bare integrator name
+    combo = "*";
+  }
+  const std::string against = integrator.find(':') == std::string::npos ? c.integrator : c.integrator_label();
+  if (fnmatch(integrator.c_str(), against.c_str(), 0) != 0) return false;
+  if (combo.find('/') != std::string::npos) {
+    const std::string base = fmt::format("{}/{}/{}", to_string(c.coordinates), to_string(c.equations), c.scheme);
+    return fnmatch(combo.c_str(), base.c_str(), 0) == 0;
+  }
   for (const std::string& part : {to_string(c.coordinates), to_string(c.equations), c.scheme})
-    if (fnmatch(pattern.c_str(), part.c_str(), 0) == 0) return true;
+    if (fnmatch(combo.c_str(), part.c_str(), 0) == 0) return true;
   return false;
 }
 
@@ -85,19 +175,24 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
     if (progress) progress(s);
   };
   std::vector<Combination> selected;
-  for (const Combination& c : all_combinations()) {
+  for (const Combination& c : combinations_for(scene, default_integrators(scene))) {
     const bool in = opt.only.empty() || std::any_of(opt.only.begin(), opt.only.end(),
                                                     [&](const std::string& p) { return matches(c, p); });
     const bool out = std::any_of(opt.skip.begin(), opt.skip.end(), [&](const std::string& p) { return matches(c, p); });
     if (in && !out) selected.push_back(c);
   }
-  if (selected.empty()) throw InputError("--only/--skip leave no combination to run; see rigidae compare --help");
+  if (selected.empty())
+    throw InputError(scene.multibody
+                         ? "--only/--skip leave no combination to run; a multibody scene runs every coordinates x "
+                           "equations x scheme on ida only (see rigidae compare --help)"
+                         : "--only/--skip leave no combination to run; see rigidae compare --help");
 
   CompareReport report;
   report.scene_name = scene.name;
   report.scene_source = scene.source;
   report.rtol = scene.solver.rtol;
   report.atol = scene.solver.atol;
+  report.multibody = scene.multibody.has_value();
 
   const std::string kind = opt.reference.empty() ? to_string(scene.reference) : opt.reference;
   report.reference = make_reference(scene, kind,
@@ -124,8 +219,7 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
       row.wall_seconds.push_back(solve_scene(s, dir).wall_seconds);
     row.wall_median = median(row.wall_seconds);
 
-    row.accuracy = measure_accuracy(s, read_trajectory_csv(dir / "trajectory.csv"), ref,
-                                    row.outcome.run.status == RunStatus::Success);
+    row.accuracy = measure_run_accuracy(s, dir, ref, row.outcome.run.status == RunStatus::Success);
     drop_steps(dir);
     row.error_final_rad = row.accuracy.orientation_rad.final;
     row.error_max_rad = row.accuracy.orientation_rad.max;
@@ -155,21 +249,27 @@ std::string format_compare_table(const CompareReport& r) {
   std::string s;
   s += fmt::format("rigidae compare: {} ({}), rtol {:g}, atol {:g}\n", r.scene_name, r.scene_source, r.rtol, r.atol);
   s += fmt::format("reference: {}{}\n", r.reference.describe(), r.reference.ok ? "" : "; errors are not reported");
-  s += fmt::format("{:<28} {:<8} {:>8} {:>9} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>21} {:>8} {:>8}\n",
-                   "combination", "status", "steps", "res.evals", "jacs", "wall s", "max|Phi|", "max|dPhi|",
-                   "max|dE/E|", "err end", "err max", "lambda range J", "max|mu|", "restarts");
+  std::size_t width = 28;
+  for (const CompareRow& row : r.rows) width = std::max(width, row.combination.name().size());
+  s += fmt::format("{:<{}} {:<8} {:>8} {:>9} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>21} {:>8} {:>8}{}\n",
+                   "combination", width, "status", "steps", "res.evals", "jacs", "wall s", "max|Phi|", "max|dPhi|",
+                   "max|dE/E|", "err end", "err max", "lambda range J", "max|mu|", "restarts",
+                   r.multibody ? fmt::format(" {:>9} {:>9}", "pos end m", "pos max m") : "");
   for (const CompareRow& row : r.rows) {
     const IdaCounters& c = row.outcome.run.counters;
     const RunExtremes& x = row.outcome.extremes;
-    const bool constrained = row.combination.coordinates != Coordinates::EulerAngles;
+    const bool constrained = r.multibody || row.combination.coordinates != Coordinates::EulerAngles;
     const std::string lambda =
         std::isnan(row.lambda_min) ? "-" : fmt::format("[{:.3g}, {:.3g}]", row.lambda_min, row.lambda_max);
-    s += fmt::format("{:<28} {:<8} {:>8} {:>9} {:>6} {:>8.3f} {:>8} {:>8} {:>8} {:>8} {:>8} {:>21} {:>8} {:>8}\n",
-                     row.combination.name(), to_string(row.outcome.run.status), c.steps,
+    s += fmt::format("{:<{}} {:<8} {:>8} {:>9} {:>6} {:>8.3f} {:>8} {:>8} {:>8} {:>8} {:>8} {:>21} {:>8} {:>8}{}\n",
+                     row.combination.name(), width, to_string(row.outcome.run.status), c.steps,
                      c.residual_evals + c.jacobian_residual_evals, c.jacobian_evals, row.wall_median,
                      constrained ? sci(x.max_drift_position) : "-", constrained ? sci(x.max_drift_velocity) : "-",
                      sci(x.max_abs_energy_error), sci(row.error_final_rad), sci(row.error_max_rad), lambda,
-                     sci(row.mu_abs_max), c.restarts);
+                     sci(row.mu_abs_max), c.restarts,
+                     r.multibody ? fmt::format(" {:>9} {:>9}", sci(row.accuracy.position_m.final),
+                                               sci(row.accuracy.position_m.max))
+                                 : "");
   }
   bool any_failed = false;
   for (const CompareRow& row : r.rows)
@@ -185,8 +285,14 @@ std::string format_compare_table(const CompareReport& r) {
       any_warned = true;
       s += fmt::format("  {}: {}\n", row.combination.name(), warnings_cell(row.outcome.warnings));
     }
-  s += "units: drift |Phi| 1, |dPhi/dt| 1/s; errors are rotation angles to the reference in rad; wall is the median "
-       "of the repeats; res.evals include those spent on difference Jacobians\n";
+  if (r.multibody)
+    s += "units: drift max |Phi| over the joints (m for point rows, rad for angular rows), |G v| (m/s, rad/s); "
+         "dE/E (H - H0)/max(|H0|, 1 J); errors are the worst body's: rotation angle to the reference in rad, "
+         "centre-of-mass distance (pos) in m; wall is the median of the repeats; res.evals include those spent on "
+         "difference Jacobians\n";
+  else
+    s += "units: drift |Phi| 1, |dPhi/dt| 1/s; errors are rotation angles to the reference in rad; wall is the median "
+         "of the repeats; res.evals include those spent on difference Jacobians\n";
   return s;
 }
 
@@ -194,21 +300,24 @@ void write_compare_outputs(const CompareReport& r, const std::filesystem::path& 
   // Each table is made whole in memory and written atomically (io/checked_file.hpp).
   {
     std::ostringstream f;
-    f << fmt::format("# units: wall_s s (median of repeats); drift_position 1; drift_velocity 1/s; error_* rad to the "
-                     "reference {}{} (estimated accuracy {:.3e} rad); lambda J; mu 1/s\n",
+    f << fmt::format("# units: wall_s s (median of repeats); drift_position 1{}; drift_velocity 1/s; error_*_rad rad to the "
+                     "reference {}{} (estimated accuracy {:.3e} rad{}); error_position_* m; lambda J; mu 1/s\n",
+                     r.multibody ? " (multibody: max |Phi| over the joints, m or rad)" : "",
                      r.reference.combination,
-                     r.reference.exact ? "" : fmt::format(" at rtol {:g}", r.reference.rtol), r.reference.accuracy_rad);
+                     r.reference.exact ? "" : fmt::format(" at rtol {:g}", r.reference.rtol), r.reference.accuracy_rad,
+                     r.multibody ? "; multibody: the worst body" : "");
     f << "combination,coordinates,equations,scheme,status,steps,residual_evals,jacobian_residual_evals,jacobian_evals,"
          "nonlinear_iters,error_test_fails,nonlinear_conv_fails,restarts,projections,chart_switches,wall_s,repeats,"
          "max_drift_position,max_drift_velocity,max_abs_energy_rel_error,error_final_rad,error_max_rad,lambda_min,"
-         "lambda_max,mu_abs_max,rtol,atol,scene,run_dir,message,warnings\n";
+         "lambda_max,mu_abs_max,rtol,atol,scene,run_dir,message,warnings,integrator,error_position_final_m,"
+         "error_position_max_m\n";
     for (const CompareRow& row : r.rows) {
       const IdaCounters& c = row.outcome.run.counters;
       const RunExtremes& x = row.outcome.extremes;
       std::string msg = row.outcome.run.message;
       std::replace(msg.begin(), msg.end(), '"', '\'');
       f << fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.6g},{},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},"
-                       "{:.6e},{:.6e},{:g},{:g},{},{},\"{}\",\"{}\"\n",
+                       "{:.6e},{:.6e},{:g},{:g},{},{},\"{}\",\"{}\",{},{:.6e},{:.6e}\n",
                        row.combination.name(), to_string(row.combination.coordinates),
                        to_string(row.combination.equations), row.combination.scheme, to_string(row.outcome.run.status),
                        c.steps, c.residual_evals, c.jacobian_residual_evals, c.jacobian_evals, c.nonlinear_iters,
@@ -216,7 +325,8 @@ void write_compare_outputs(const CompareReport& r, const std::filesystem::path& 
                        row.outcome.run.switch_count, row.wall_median, row.wall_seconds.size(), x.max_drift_position,
                        x.max_drift_velocity, x.max_abs_energy_error, row.error_final_rad, row.error_max_rad,
                        row.lambda_min, row.lambda_max, row.mu_abs_max, r.rtol, r.atol, r.scene_name,
-                       row.combination.folder(), msg, warnings_cell(row.outcome.warnings));
+                       row.combination.folder(), msg, warnings_cell(row.outcome.warnings),
+                       row.combination.integrator_label(), row.accuracy.position_m.final, row.accuracy.position_m.max);
     }
     write_file_atomically(out / "compare.csv", f.str());
   }
@@ -228,7 +338,7 @@ void write_compare_outputs(const CompareReport& r, const std::filesystem::path& 
     for (const CompareRow& row : r.rows) {
       const IdaCounters& c = row.outcome.run.counters;
       const RunExtremes& x = row.outcome.extremes;
-      const bool constrained = row.combination.coordinates != Coordinates::EulerAngles;
+      const bool constrained = r.multibody || row.combination.coordinates != Coordinates::EulerAngles;
       f << fmt::format("| {} | {} | {} | {} | {:.3f} | {} | {} | {} | {} | {} | {} | {} |\n", row.combination.name(),
                        to_string(row.outcome.run.status), c.steps, c.residual_evals + c.jacobian_residual_evals,
                        row.wall_median, constrained ? sci(x.max_drift_position) : "–",

@@ -1,5 +1,6 @@
 // One run of a multibody scene: the MultibodyProblem through the IDA
-// driver, streamed by MultibodyRecorder, and summary.json.
+// driver, streamed by MultibodyRecorder behind the accuracy check
+// (app/multibody_accuracy_check.hpp), and summary.json.
 #include "solve_multibody.hpp"
 #include "counters_json.hpp"
 
@@ -7,8 +8,10 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <fstream>
 
+#include "rigidae/app/multibody_accuracy_check.hpp"
 #include "rigidae/io/checked_file.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
@@ -16,7 +19,22 @@
 
 namespace rigidae {
 
+namespace {
+
+nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+
+}  // namespace
+
+void check_multibody_integrator(const Scene& scene) {
+  if (scene.solver.integrator != "ida")
+    throw InputError(fmt::format("{}: error: solver.integrator = \"{}\": a scene with bodies and joints "
+                                 "(schema_version = 2) runs on ida only (valid: ida; the multibody ODE form for "
+                                 "cvode-adams, cvode-bdf and arkode-erk is not built yet)",
+                                 scene.source, scene.solver.integrator));
+}
+
 SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::path& out_dir) {
+  check_multibody_integrator(scene);
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", out_dir.string(), ec.message()));
@@ -28,9 +46,10 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
   o.note = fmt::format("{} bodies, {} joints, {} unknowns", problem.bodies().size(), scene.multibody->joints.size(),
                        problem.size());
   MultibodyRecorder recorder(problem, out_dir);
+  MultibodyInvariantMonitor monitor(problem, scene, &recorder);
   const auto t0 = std::chrono::steady_clock::now();
   try {
-    o.run = integrate(problem, scene.solver, scene.time, recorder);
+    o.run = integrate(problem, scene.solver, scene.time, monitor);
   } catch (const SolverError& e) {
     o.run.status = RunStatus::Failed;
     o.run.message = e.what();
@@ -41,6 +60,16 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
   o.extremes.max_drift_position = recorder.max_drift_position();
   o.extremes.max_drift_velocity = recorder.max_drift_velocity();
   o.extremes.max_abs_energy_error = recorder.max_abs_energy_rel_error();
+  o.drifts = monitor.drifts();
+  o.warnings = monitor.warnings();
+  nlohmann::json accuracy_warnings = nlohmann::json::array();
+  for (const AccuracyWarning& w : o.warnings)
+    accuracy_warnings.push_back({{"quantity", w.quantity},
+                                 {"drift", w.drift},
+                                 {"limit", w.limit},
+                                 {"factor", w.factor},
+                                 {"tolerance", w.tolerance},
+                                 {"message", w.message}});
 
   const IdaCounters& c = o.run.counters;
   nlohmann::json j = {
@@ -62,7 +91,15 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
       {"atol", scene.solver.atol},
       {"jacobian", scene.solver.jacobian},
       {"linear_solver", scene.solver.linear_solver},
-      {"warnings", problem.warnings()},
+      {"start_warnings", problem.warnings()},
+      {"warnings", accuracy_warnings},
+      {"accuracy_check",
+       {{"tolerance", o.drifts.tolerance},
+        {"energy", number_or_null(o.drifts.energy)},
+        {"constraint_position", number_or_null(o.drifts.constraint_position)},
+        {"constraint_velocity", number_or_null(o.drifts.constraint_velocity)},
+        {"steps", monitor.steps()},
+        {"definitions", "maxima over the steps; see include/rigidae/app/multibody_accuracy_check.hpp"}}},
       {"counters", counters_json(c)},
       {"maxima",
        {{"drift_position", o.extremes.max_drift_position},

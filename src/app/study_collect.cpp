@@ -56,6 +56,7 @@ const Column kColumns[] = {
     {"coordinates", "/coordinates", Kind::Text},
     {"equations", "/equations", Kind::Text},
     {"scheme", "/scheme", Kind::Text},
+    {"integrator", "/integrator", Kind::Text},
     {"rtol", "/rtol", Kind::Tolerance},
     {"atol", "/atol", Kind::Tolerance},
     {"status", "/status", Kind::Text},
@@ -76,6 +77,10 @@ const Column kColumns[] = {
     {"orientation_error_final_rad", "/errors/orientation_rad/final", Kind::Number},
     {"orientation_error_l2_rad", "/errors/orientation_rad/l2", Kind::Number},
     {"orientation_error_max_rad", "/errors/orientation_rad/max", Kind::Number},
+    {"final_state_error_rad", "/timing/final_error_rad", Kind::Number},
+    {"position_error_final_m", "/errors/position_m/final", Kind::Number},
+    {"position_error_l2_m", "/errors/position_m/l2", Kind::Number},
+    {"position_error_max_m", "/errors/position_m/max", Kind::Number},
     {"angular_velocity_error_final_rad_s", "/errors/angular_velocity_rad_s/final", Kind::Number},
     {"angular_velocity_error_l2_rad_s", "/errors/angular_velocity_rad_s/l2", Kind::Number},
     {"angular_velocity_error_max_rad_s", "/errors/angular_velocity_rad_s/max", Kind::Number},
@@ -95,6 +100,12 @@ const Column kColumns[] = {
     {"run_dir", "/id", Kind::Text},
     {"message", "/message", Kind::Quoted},
     {"warnings", "/warning_summary", Kind::Quoted},  // accuracy-check warnings (app/accuracy_check.hpp)
+    {"recorded_wall_s", "/timing/recorded_wall_s", Kind::Number},
+    {"host", "/machine/host", Kind::Quoted},
+    {"cpu_model", "/machine/cpu_model", Kind::Quoted},
+    {"load_average", "/machine/load_average", Kind::Quoted},
+    {"commit", "/machine/commit", Kind::Text},
+    {"compiler", "/machine/compiler", Kind::Quoted},
 };
 
 std::string cell(const json& run, const Column& c) {
@@ -169,8 +180,10 @@ std::string collect_study(const StudySpec& spec, const fs::path& out, std::vecto
   }
   {
     std::ostringstream f;
-    f << "# units: wall s (min and median of the timed repeats after the warm-ups); orientation errors rad (angle "
-         "to the reference); angular velocity errors rad/s (|delta omega_B|); lambda errors J and mu errors 1/s (max "
+    f << "# units: wall s (min and median of the timed repeats after the warm-ups, runs recording nothing; "
+         "recorded_wall_s: the run that wrote the grid); orientation errors rad (angle to the reference; multibody: "
+         "the worst body), final_state_error_rad from a timed run's final state; position errors m (multibody: the "
+         "worst body's centre of mass); angular velocity errors rad/s (|delta omega_B|; multibody: space frame); lambda errors J and mu errors 1/s (max "
          "over the multipliers); _l2 is the root mean square over the output grid; scd/mescd as the IVP Test Set "
          "defines them on the final (q_WB, omega_B); drift |Phi| 1, |dPhi/dt| 1/s\n";
     for (std::size_t k = 0; k < std::size(kColumns); ++k) f << (k ? "," : "") << kColumns[k].name;

@@ -9,6 +9,7 @@
 
 #include "../io/toml_reader.hpp"
 #include "rigidae/app/study.hpp"
+#include "rigidae/core/error.hpp"
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/settings/settings.hpp"
@@ -23,7 +24,8 @@ using io::TomlReader;
 constexpr std::array<std::string_view, 9> kRootKeys{"schema_version", "name",           "description",
                                                     "scenes",         "reference",      "reference_rtol",
                                                     "targets",        "grid",           "timing"};
-constexpr std::array<std::string_view, 5> kGridKeys{"combinations", "skip", "rtol", "atol", "atol_ratio"};
+constexpr std::array<std::string_view, 6> kGridKeys{"combinations", "skip", "rtol", "atol", "atol_ratio",
+                                                   "integrators"};
 constexpr std::array<std::string_view, 2> kTimingKeys{"warmups", "repeats"};
 const std::array<SectionKeys, 3> kSchema{{{"", kRootKeys}, {"grid", kGridKeys}, {"timing", kTimingKeys}}};
 
@@ -97,15 +99,17 @@ bool folder_name(const std::string& s) {
 }
 
 void check_patterns(const TomlReader& r, const toml::node& n, const std::vector<std::string>& patterns,
-                    std::string_view name) {
-  const std::vector<Combination> all = all_combinations();
+                    std::string_view name, const StudySpec& spec) {
+  std::vector<Combination> all;
+  for (const Scene& scene : spec.scenes)
+    for (const Combination& c : combinations_for(scene, spec.integrators, spec.source)) all.push_back(c);
   for (std::size_t i = 0; i < patterns.size(); ++i) {
     if (patterns[i] == "all") continue;
-    if (std::none_of(all.begin(), all.end(), [&](const Combination& c) { return matches(c, patterns[i]); }))
+    if (std::none_of(all.begin(), all.end(), [&](const Combination& c) { return matches(c, patterns[i], "*"); }))
       r.fail(*n.as_array()->get(i),
              fmt::format("'{}[{}]' = \"{}\" matches no combination (patterns: a glob over "
                          "coordinates/equations/scheme such as \"quaternion/*/ggl\", a word such as \"ggl\", "
-                         "or \"all\")",
+                         "either followed by @INTEGRATOR (one of grid.integrators), or \"all\")",
                          name, i, patterns[i]));
   }
 }
@@ -151,6 +155,10 @@ StudySpec read_study(const TomlReader& r, const toml::table& root) {
     spec.reference = std::get<std::string>(setting_value(r, *n, settings::study_setting("reference"), "reference"));
     for (const Scene& scene : spec.scenes) {
       std::string why;
+      if (spec.reference == "exact" && scene.multibody)
+        r.fail(*n, fmt::format("'reference' = \"exact\" but scene '{}' has bodies and joints (schema_version = 2), "
+                               "which have no closed-form solution (use \"auto\" or \"tight\")",
+                               scene.name));
       if (spec.reference == "exact" && !exact::find_exact_solution(scene, &why))
         r.fail(*n, fmt::format("'reference' = \"exact\" but scene '{}' has no closed-form solution: {} (use "
                                "\"auto\" or \"tight\")",
@@ -161,14 +169,37 @@ StudySpec read_study(const TomlReader& r, const toml::table& root) {
 
   const toml::table& grid = r.required_table(root, "", "grid");
   r.check_keys(grid, "grid", kGridKeys, kSchema);
+  if (const toml::node* n = grid.get("integrators")) {
+    const std::vector<std::string> names = strings(r, *n, "grid.integrators");
+    spec.integrators.clear();
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const toml::node& e = *n->as_array()->get(i);
+      const std::string item = fmt::format("grid.integrators[{}]", i);
+      IntegratorChoice c;
+      try {
+        c = parse_integrator_choice(names[i], SolverSettings{}.erk_method, "");
+      } catch (const InputError&) {
+        r.fail(e, fmt::format("'{}' = \"{}\" is not an integrator; valid: {}", item, names[i],
+                              integrator_choices_text()));
+      }
+      for (const Scene& scene : spec.scenes)
+        if (scene.multibody && !multibody_integrator(c.integrator))
+          r.fail(e, fmt::format("'{}' = \"{}\", but scene '{}' has bodies and joints (schema_version = 2), which "
+                                "run on ida only (valid for it: ida; the multibody ODE form is not built yet)",
+                                item, names[i], scene.name));
+      for (const IntegratorChoice& seen : spec.integrators)
+        if (seen.label() == c.label()) r.fail(e, fmt::format("'{}' = \"{}\" is listed twice", item, c.label()));
+      spec.integrators.push_back(c);
+    }
+  }
   if (const toml::node* n = grid.get("combinations")) {
     spec.only = strings(r, *n, "grid.combinations");
-    check_patterns(r, *n, spec.only, "grid.combinations");
+    check_patterns(r, *n, spec.only, "grid.combinations", spec);
     if (std::find(spec.only.begin(), spec.only.end(), "all") != spec.only.end()) spec.only.clear();
   }
   if (const toml::node* n = grid.get("skip")) {
     spec.skip = strings(r, *n, "grid.skip");
-    check_patterns(r, *n, spec.skip, "grid.skip");
+    check_patterns(r, *n, spec.skip, "grid.skip", spec);
   }
   const settings::Setting& rtol = settings::scene_setting("solver.rtol");
   spec.rtols = tolerances(r, r.required(grid, "grid", "rtol", "relative tolerances, " + settings::domain_text(rtol)),

@@ -31,20 +31,24 @@ double study_reference_rtol(const StudySpec& spec) {
   return spec.reference_rtol.value_or(default_reference_rtol(*std::min_element(spec.rtols.begin(), spec.rtols.end())));
 }
 
-std::vector<StudyRun> plan_study(const StudySpec& spec) {
+std::vector<Combination> study_combinations(const StudySpec& spec, const Scene& scene) {
   std::vector<Combination> combos;
-  for (const Combination& c : all_combinations()) {
-    const bool in = spec.only.empty() ||
-                    std::any_of(spec.only.begin(), spec.only.end(), [&](const std::string& p) { return matches(c, p); });
+  for (const Combination& c : combinations_for(scene, spec.integrators, spec.source)) {
+    const bool in = spec.only.empty() || std::any_of(spec.only.begin(), spec.only.end(),
+                                                     [&](const std::string& p) { return matches(c, p, "*"); });
     const bool out =
-        std::any_of(spec.skip.begin(), spec.skip.end(), [&](const std::string& p) { return matches(c, p); });
+        std::any_of(spec.skip.begin(), spec.skip.end(), [&](const std::string& p) { return matches(c, p, "*"); });
     if (in && !out) combos.push_back(c);
   }
+  return combos;
+}
+
+std::vector<StudyRun> plan_study(const StudySpec& spec) {
   std::vector<double> rtols = spec.rtols;
   std::sort(rtols.begin(), rtols.end(), std::greater<>());  // loose to tight
   std::vector<StudyRun> runs;
   for (std::size_t s = 0; s < spec.scenes.size(); ++s)
-    for (const Combination& c : combos)
+    for (const Combination& c : study_combinations(spec, spec.scenes[s]))
       for (double rtol : rtols) {
         StudyRun r;
         r.index = static_cast<int>(runs.size());

@@ -1,11 +1,15 @@
-// Executing a study's runs: each timed over repeats, measured against its
-// scene's reference, written under a temporary name and renamed when complete.
+// Executing a study's runs: each measured once with its grid recorded (errors
+// over the grid, counters, drifts, accuracy warnings), then timed over
+// repeats of the same run recording nothing (app/unrecorded_run.hpp: the
+// wall time users see with save_everystep = false, and the error of its
+// final state), written under a temporary name and renamed when complete.
 #include <fmt/format.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 
@@ -13,6 +17,8 @@
 #include "rigidae/app/reference.hpp"
 #include "rigidae/app/solve.hpp"
 #include "rigidae/app/study.hpp"
+#include "rigidae/app/unrecorded_run.hpp"
+#include "machine_record.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/io/checked_file.hpp"
 #include "rigidae/record/trajectory_csv.hpp"
@@ -114,9 +120,17 @@ class StudyReferences {
   std::map<std::size_t, ReferenceTrajectory> cache_;
 };
 
-json run_record(const StudySpec& spec, const StudyRun& run, const SolveOutcome& o, const std::vector<double>& wall,
+// What the timed repeats measured.
+struct Timing {
+  std::vector<double> wall;           // unrecorded runs after the warm-ups
+  double final_error = std::numeric_limits<double>::quiet_NaN();  // of the last timed run's final state
+  bool same_steps = true;             // every timed run took the recorded run's steps
+};
+
+json run_record(const StudySpec& spec, const StudyRun& run, const SolveOutcome& o, const Timing& timing,
                 const RunAccuracy& acc, const ReferenceTrajectory& ref) {
   const IdaCounters& c = o.run.counters;
+  const std::vector<double>& wall = timing.wall;
   return {
       {"id", run.id(spec)},
       {"study", spec.name},
@@ -126,6 +140,7 @@ json run_record(const StudySpec& spec, const StudyRun& run, const SolveOutcome& 
       {"coordinates", to_string(run.combination.coordinates)},
       {"equations", to_string(run.combination.equations)},
       {"scheme", run.combination.scheme},
+      {"integrator", run.combination.integrator_label()},
       {"rtol", run.rtol},
       {"atol", run.atol},
       {"status", to_string(o.run.status)},
@@ -134,6 +149,13 @@ json run_record(const StudySpec& spec, const StudyRun& run, const SolveOutcome& 
       {"wall_s", wall},
       {"wall_min_s", *std::min_element(wall.begin(), wall.end())},
       {"wall_median_s", median(wall)},
+      {"timing",
+       {{"what", "runs recording nothing (no step or grid file, no per-step observation): the integration alone; "
+                 "the recorded run's wall time is recorded_wall_s"},
+        {"recorded_wall_s", o.wall_seconds},
+        {"final_error_rad", number(timing.final_error)},
+        {"same_steps_as_recorded", timing.same_steps}}},
+      {"machine", machine_record()},
       {"counters",
        {{"steps", c.steps},
         {"residual_evals", c.residual_evals},
@@ -152,6 +174,7 @@ json run_record(const StudySpec& spec, const StudyRun& run, const SolveOutcome& 
       {"errors",
        {{"orientation_rad", stats(acc.orientation_rad)},
         {"angular_velocity_rad_s", stats(acc.angular_velocity)},
+        {"position_m", stats(acc.position_m)},
         {"lambda", stats(acc.lambda)},
         {"mu", stats(acc.mu)},
         {"scd", number(acc.scd)},
@@ -192,23 +215,29 @@ bool run_study(const StudySpec& spec, const std::vector<StudyRun>& runs, const S
     std::error_code ec;
     fs::remove_all(tmp, ec);
 
-    SolveOutcome outcome;
-    std::vector<double> wall;
-    // Warm-ups and repeats time the same work; a run that fails is not repeated.
-    for (int k = 0; k < spec.warmups + spec.repeats; ++k) {
-      outcome = solve_scene(scene, tmp);
-      if (outcome.run.status == RunStatus::Interrupted) {
+    // The recorded run: errors over the grid, counters, drifts and warnings.
+    const SolveOutcome outcome = solve_scene(scene, tmp);
+    if (outcome.run.status == RunStatus::Interrupted) {
+      fs::remove_all(tmp, ec);
+      return false;
+    }
+    Timing timing;
+    // Warm-ups and repeats time the same run recording nothing; a run that fails is not repeated.
+    if (outcome.run.status != RunStatus::Success) timing.wall.push_back(outcome.wall_seconds);
+    for (int k = 0; k < spec.warmups + spec.repeats && outcome.run.status == RunStatus::Success; ++k) {
+      const UnrecordedRun timed = run_unrecorded(scene);
+      if (timed.run.status == RunStatus::Interrupted || g_interrupt_requested.load()) {
         fs::remove_all(tmp, ec);
         return false;
       }
-      if (k >= spec.warmups || outcome.run.status != RunStatus::Success) wall.push_back(outcome.wall_seconds);
-      if (outcome.run.status != RunStatus::Success) break;
+      timing.same_steps = timing.same_steps && timed.run.counters.steps == outcome.run.counters.steps;
+      if (k >= spec.warmups) timing.wall.push_back(timed.wall_seconds);
+      timing.final_error = final_orientation_error(timed, *ref);
     }
-    const RunAccuracy acc = measure_accuracy(scene, read_trajectory_csv(tmp / "trajectory.csv"), *ref,
-                                             outcome.run.status == RunStatus::Success);
+    const RunAccuracy acc = measure_run_accuracy(scene, tmp, *ref, outcome.run.status == RunStatus::Success);
     if (!opt.keep_steps) fs::remove(tmp / "steps.csv", ec);  // summaries and grids always stay
     // run.json marks the run complete: written last, whole or not at all.
-    write_file_atomically(tmp / "run.json", run_record(spec, run, outcome, wall, acc, *ref).dump(2) + "\n");
+    write_file_atomically(tmp / "run.json", run_record(spec, run, outcome, timing, acc, *ref).dump(2) + "\n");
     replace_incomplete(final_path, "run.json");
     publish(tmp, final_path);
     ++p.done;

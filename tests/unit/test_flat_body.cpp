@@ -61,7 +61,8 @@ TEST_CASE("flat body: a lamina (1, 2, 3) runs in all 26 combinations as accurate
   const char* moments[2] = {"1.0, 2.0, 3.0", "1.0, 2.0, 2.9"};
   for (int k = 0; k < 2; ++k) {
     const fs::path scene = free_body(dir, k == 0 ? "lamina" : "thick", moments[k]);
-    const auto r = run_cli("compare " + scene.string() + " --repeat 1 --quiet --out " + (dir / std::to_string(k)).string());
+    // '*': the IDA rows (a pattern without @INTEGRATOR); the ODE rows are compare's own tests.
+    const auto r = run_cli("compare " + scene.string() + " --only '*' --repeat 1 --quiet --out " + (dir / std::to_string(k)).string());
     CAPTURE(r.output);
     REQUIRE(r.exit_code == 0);
     w[k] = worst(dir / std::to_string(k) / "compare.csv");

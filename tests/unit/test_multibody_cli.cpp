@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -93,11 +94,80 @@ TEST_CASE("multibody cli: heavy_top_absolute ends at heavy_top's orientation (sa
   CHECK(diff < 1e-4);
 }
 
-TEST_CASE("multibody cli: compare refuses a multibody scene with exit 2, a message and no output folder") {
-  const fs::path dir = rigidae::test::fresh_temp_dir("mb_compare") / "out";
-  const auto r = rigidae::test::run_cli("compare " + kProblems + "double_pendulum.toml --quiet --out " + dir.string());
+// compare.csv's cells by column name, one map per row.
+std::vector<std::map<std::string, std::string>> compare_rows(const fs::path& csv) {
+  std::ifstream in(csv);
+  REQUIRE(in);
+  std::string line;
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    if (header.empty()) {
+      header = split(line);
+      continue;
+    }
+    const std::vector<std::string> cells = split(line);
+    std::map<std::string, std::string> row;
+    for (std::size_t k = 0; k < header.size() && k < cells.size(); ++k) row[header[k]] = cells[k];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+TEST_CASE("multibody cli: compare runs a multibody scene against its tight reference; errors fall with rtol") {
+  // Independent truth: a tight run (rtol 1e-12) of the same scene, itself
+  // cross-checked by other coordinates. Short span: the double pendulum is chaotic.
+  double previous[3] = {0, 0, 0};
+  int k = 0;
+  for (const char* rtol : {"1e-5", "1e-7", "1e-9"}) {
+    CAPTURE(rtol);
+    const fs::path dir = rigidae::test::fresh_temp_dir(std::string("mb_compare_") + rtol) / "out";
+    const auto r = rigidae::test::run_cli("compare " + kProblems + "double_pendulum.toml --t-end 0.3 --repeat 1 --rtol " +
+                                          rtol + " --atol " + rtol +
+                                          " --only 'quaternion/euler/ggl,linear/lagrange/index2,euler/euler/baumgarte' "
+                                          "--quiet --out " + dir.string());
+    CAPTURE(r.output);
+    REQUIRE(r.exit_code == 0);
+    const auto rows = compare_rows(dir / "compare.csv");
+    REQUIRE(rows.size() == 3);
+    int i = 0;
+    for (const auto& row : rows) {
+      CAPTURE(row.at("combination"));
+      CHECK(row.at("status") == "success");
+      const double err = std::stod(row.at("error_final_rad")), pos = std::stod(row.at("error_position_final_m"));
+      MESSAGE(row.at("combination") << " rtol " << rtol << ": final error " << err << " rad, position " << pos << " m");
+      CHECK(err > 0.0);
+      CHECK(err < 1e3 * std::stod(rtol));  // within the tolerance's order, not off the reference
+      CHECK(std::isfinite(pos));
+      CHECK(std::stod(row.at("max_drift_position")) >= 0.0);
+      if (k > 0) CHECK(err < previous[i]);  // tighter rtol, smaller error
+      previous[i++] = err;
+    }
+    CHECK(fs::exists(dir / "reference" / "trajectory.csv"));
+    CHECK(fs::exists(dir / "reference-check" / "summary.json"));
+    ++k;
+  }
+}
+
+TEST_CASE("multibody cli: compare on a multibody scene runs every coordinates x equations x scheme on ida only") {
+  const fs::path dir = rigidae::test::fresh_temp_dir("mb_compare_all") / "out";
+  auto r = rigidae::test::run_cli("compare " + kProblems + "four_bar.toml --t-end 0.05 --repeat 1 --quiet --out " +
+                                  dir.string());
   CAPTURE(r.output);
+  REQUIRE(r.exit_code == 0);
+  const auto rows = compare_rows(dir / "compare.csv");
+  CHECK(rows.size() == 3 * 2 * 6);  // Euler angles carry the joints too: every scheme
+  for (const auto& row : rows) {
+    CHECK(row.at("integrator") == "ida");
+    CHECK(row.at("status") == "success");
+  }
+  r = rigidae::test::run_cli("compare " + kProblems + "four_bar.toml --only '*@cvode-adams' --quiet --out " +
+                             (dir.parent_path() / "ode").string());
   CHECK(r.exit_code == 2);
-  CHECK(r.output.find("does not run multibody scenes") != std::string::npos);
-  CHECK(!fs::exists(dir));
+  CHECK(r.output.find("ida only") != std::string::npos);
+  r = rigidae::test::run_cli("solve " + kProblems + "four_bar.toml --integrator arkode-erk --scheme projection --quiet --out " +
+                             (dir.parent_path() / "solve").string());
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("ida only") != std::string::npos);
 }

@@ -27,8 +27,9 @@
 // A measure above its limit gives a warning; the run's status is untouched.
 // Limits, for N accepted steps (accuracy_check.cpp says why):
 //   energy and momenta     2 tau sqrt(N)   (a random walk of per-step errors)
-//   constraints            10 tau N        (10 tau of drift per step) Scenes with several bodies
-// (schema 2) are not checked yet.
+//   constraints            10 tau N        (10 tau of drift per step)
+// Scenes with several bodies (schema 2) get the same check with their own
+// measures and scales: app/multibody_accuracy_check.hpp.
 #include <string>
 #include <vector>
 
@@ -77,6 +78,14 @@ class InvariantMonitor final : public StepSink {
   InvariantDrifts d_;
   long steps_ = 0;
 };
+
+// What each measure is, in words, for the warning messages.
+struct DriftMeanings {
+  std::string energy, angular_momentum, vertical_angular_momentum, constraint_position, constraint_velocity;
+};
+// The warnings for the drifts of N accepted steps against the limits above
+// (2 tau sqrt(N) for invariants, 10 tau N for constraints); a NaN measure is not checked.
+std::vector<AccuracyWarning> drift_warnings(const InvariantDrifts& d, long steps, const DriftMeanings& what);
 
 // The warnings as one short text for a table cell ("energy 3.1e+03 tau;
 // angular_momentum ..."), empty when there are none.

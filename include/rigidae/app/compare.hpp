@@ -19,24 +19,68 @@
 
 namespace rigidae {
 
-// Euler angles carry no constraint, so every scheme gives them the same
-// ODE: they appear once per equation form, with scheme "any".
+// A single body in Euler angles carries no constraint, so every scheme gives
+// it the same ODE: it appears once per equation form, with scheme "any". In a
+// multibody scene the joints are constraints whatever the coordinates, so
+// every coordinates x equations x scheme runs.
+//
+// The integrator is part of a combination (solver/integrators.hpp states
+// which integrator runs which scheme): "ida" (the DAE, every scheme), or an
+// ODE integrator ("cvode-adams", "cvode-bdf", "arkode-erk" with its Runge-
+// Kutta table) on the ODE form, schemes index1 and projection only.
 struct Combination {
   Coordinates coordinates = Coordinates::Quaternion;
   Equations equations = Equations::Euler;
   std::string scheme;  // registry name, or "any"
+  std::string integrator = "ida";
+  std::string erk_method;  // arkode-erk's table; empty otherwise
 
-  std::string name() const;    // "quaternion/euler/ggl"
-  std::string folder() const;  // "quaternion-euler-ggl"
+  // "quaternion/euler/ggl" on IDA (today's names), else with the integrator:
+  // "quaternion/euler/projection@cvode-adams", "...@arkode-erk:fehlberg78".
+  std::string name() const;
+  // "quaternion-euler-ggl", "quaternion-euler-projection-cvode-adams", "...-arkode-erk-fehlberg78".
+  std::string folder() const;
+  // "ida", "cvode-adams", "arkode-erk:fehlberg78".
+  std::string integrator_label() const;
   Scene applied_to(const Scene& scene) const;
 };
 
-// Every applicable combination, coordinates then equations then schemes in registry order.
-std::vector<Combination> all_combinations();
+// An entry of an integrators list: "ida", "cvode-adams", "cvode-bdf",
+// "arkode-erk" (the scene's Runge-Kutta table) or "arkode-erk:METHOD".
+struct IntegratorChoice {
+  std::string integrator;
+  std::string erk_method;  // arkode-erk only
+  std::string label() const;
+};
+// InputError (prefixed by `where`) listing the valid entries for an unknown one.
+IntegratorChoice parse_integrator_choice(const std::string& text, const std::string& default_erk_method,
+                                         const std::string& where = "");
+// Every integrator and Runge-Kutta table, e.g. for messages: "ida, cvode-adams, ..., arkode-erk:dopri5".
+std::string integrator_choices_text();
 
-// A pattern with '/' is a glob over the whole name ("quaternion/*/ggl");
-// one without matches any single part ("ggl", "linear", "index*").
-bool matches(const Combination& c, const std::string& pattern);
+// Every applicable single-body combination on IDA, coordinates then equations
+// then schemes in registry order (today's compare table).
+std::vector<Combination> all_combinations();
+// The combinations of a scene on the given integrators: for each integrator,
+// coordinates x equations x the schemes it runs. A multibody scene gives
+// every scheme to every coordinates and runs on IDA only (InputError naming
+// `where` for another integrator).
+std::vector<Combination> combinations_for(const Scene& scene, const std::vector<IntegratorChoice>& integrators,
+                                          const std::string& where = "");
+// compare's default integrators: IDA, then the ODE integrators (arkode-erk
+// with the scene's table) for a single body; IDA only for a multibody scene.
+std::vector<IntegratorChoice> default_integrators(const Scene& scene);
+// Whether the multibody path (MultibodyProblem) runs on this integrator: IDA only.
+bool multibody_integrator(const std::string& integrator);
+
+// A pattern is COMBINATION[@INTEGRATOR]. Its combination part with '/' is a
+// glob over "coordinates/equations/scheme" ("quaternion/*/ggl"); without, it
+// matches any single part ("ggl", "linear", "index*"). Its integrator part
+// is a glob over the integrator ("cvode-*", "arkode-erk") or, with ':', over
+// "integrator:method"; without '@' it is `default_integrator` (compare: "ida",
+// so that today's patterns select today's rows; a study: "*", its integrators
+// axis chooses). A bare integrator name ("cvode-adams") means "*@cvode-adams".
+bool matches(const Combination& c, const std::string& pattern, const std::string& default_integrator = "ida");
 
 struct CompareOptions {
   int repeat = 3;                     // wall time: median of this many runs
@@ -65,6 +109,7 @@ struct CompareRow {
 struct CompareReport {
   std::string scene_name, scene_source;
   double rtol = 0.0, atol = 0.0;
+  bool multibody = false;  // errors are the worst body's (app/accuracy.hpp), plus centre-of-mass positions
   ReferenceTrajectory reference;
   std::vector<CompareRow> rows;
 };

@@ -24,7 +24,10 @@ struct StudySpec {
   std::string source;  // the study file
   std::string name, description;
   std::vector<Scene> scenes;
-  std::vector<std::string> only, skip;  // combination patterns, as for compare
+  std::vector<std::string> only, skip;  // combination patterns, as for compare (integrator part default "*")
+  // The integrators axis ([grid] integrators; default IDA only); each
+  // scene runs the valid scheme pairs of each (multibody scenes: ida only).
+  std::vector<IntegratorChoice> integrators{IntegratorChoice{"ida", ""}};
   std::vector<double> rtols;
   // atol = atol_ratio * rtol when tied, else the fixed atol.
   bool atol_tied = true;
@@ -58,7 +61,10 @@ struct StudyRun {
   Scene scene_for(const StudySpec& spec) const;
 };
 
-// Every run, scene-major, then combination (registry order), then rtol.
+// A scene's combinations in a study: its integrators axis, then the patterns.
+std::vector<Combination> study_combinations(const StudySpec& spec, const Scene& scene);
+
+// Every run, scene-major, then combination (integrator, then registry order), then rtol.
 std::vector<StudyRun> plan_study(const StudySpec& spec);
 
 // Slice `index` (0-based) of `count`: runs k with k % count == index, so each

@@ -1,0 +1,65 @@
+#pragma once
+// The accuracy check of app/accuracy_check.hpp for a multibody run (schema 2):
+// what the mechanism conserves, measured at every accepted step, against
+// what the tolerance allows, with the same limits (2 tau sqrt(N) for an
+// invariant, 10 tau N for a constraint).
+//
+// Measures (dimensionless, maxima over the accepted steps):
+//   energy               |H - H0| / E_s,  only when the scene conserves it:
+//                        no body load with a torque or in the body frame, no
+//                        spring damping, no torsional spring-damper (gravity,
+//                        undamped springs and constant space-frame forces
+//                        have a potential; ideal joints do no work)
+//   constraint_position  max |Phi| / L    (the joints' and the bodies' own
+//                        position rows; point rows are in m, angular rows in
+//                        rad: dividing these by L too is conservative for L < 1 m)
+//   constraint_velocity  max |G v| / v_s
+// Scales, from the start:
+//   L    the mechanism's size: the largest distance between two of the
+//        bodies' centres of mass and the joints' ground points (at least 1 mm)
+//   E_s  T0 + |g| L sum_i m_i  (kinetic energy plus the largest potential
+//        energy gravity can exchange over the mechanism's size)
+//   v_s  sqrt(2 E_s / sum_i m_i), the largest speed that energy allows
+//   tau  rtol + atol / min(1, L, v_s), the relative accuracy IDA's error test
+//        asks of the least well scaled differential unknown (positions O(L),
+//        velocities O(v_s))
+// Momenta are not checked (the ground's joints exert forces and torques).
+#include <vector>
+
+#include "rigidae/app/accuracy_check.hpp"
+#include "rigidae/model/scene.hpp"
+#include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/solver/ida_driver.hpp"
+
+namespace rigidae {
+
+// Whether a multibody scene conserves its energy (see above).
+bool multibody_conserves_energy(const MultibodySpec& spec);
+
+// A StepSink in front of the recorder (or of nothing, for a run that records
+// nothing): forwards everything and measures each accepted step.
+class MultibodyInvariantMonitor final : public StepSink {
+ public:
+  MultibodyInvariantMonitor(multibody::MultibodyProblem& problem, const Scene& scene, StepSink* next);
+
+  void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
+  void on_output(double t, const Eigen::VectorXd& y) override;
+  void on_event(const EventNote& note) override {
+    if (next_) next_->on_event(note);
+  }
+
+  const InvariantDrifts& drifts() const { return d_; }
+  std::vector<AccuracyWarning> warnings() const;
+  long steps() const { return steps_; }
+
+ private:
+  multibody::MultibodyProblem& problem_;
+  StepSink* next_;
+  const Scene& scene_;
+  bool conservative_, started_ = false;
+  double size_ = 1.0, mass_ = 0.0, h0_ = 0.0, e_scale_ = 1.0, v_scale_ = 1.0;
+  InvariantDrifts d_;
+  long steps_ = 0;
+};
+
+}  // namespace rigidae

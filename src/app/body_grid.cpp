@@ -1,0 +1,86 @@
+// Reading a multibody trajectory.csv (see body_grid.hpp).
+#include "rigidae/app/body_grid.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "rigidae/core/error.hpp"
+#include "rigidae/so3/rotation.hpp"
+
+namespace rigidae {
+
+namespace {
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> cells;
+  std::istringstream row(line);
+  std::string cell;
+  while (std::getline(row, cell, ',')) cells.push_back(cell);
+  return cells;
+}
+
+}  // namespace
+
+BodyGrid read_body_grid(const std::filesystem::path& csv) {
+  std::ifstream in(csv);
+  if (!in) throw InputError(fmt::format("{}: cannot read", csv.string()));
+  std::string line;
+  std::vector<std::string> header;
+  while (std::getline(in, line))
+    if (!line.empty() && line[0] != '#') {
+      header = split(line);
+      break;
+    }
+  if (header.empty() || header[0] != "t") throw InputError(fmt::format("{}: no header line starting with t", csv.string()));
+  auto column = [&](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    if (it == header.end()) throw InputError(fmt::format("{}: no column '{}' in the header", csv.string(), name));
+    return static_cast<std::size_t>(it - header.begin());
+  };
+  BodyGrid g;
+  const std::string suffix = ".qw";
+  for (const std::string& h : header)
+    if (h.size() > suffix.size() && h.compare(h.size() - suffix.size(), suffix.size(), suffix) == 0)
+      g.bodies.push_back(h.substr(0, h.size() - suffix.size()));
+  if (g.bodies.empty()) throw InputError(fmt::format("{}: no BODY.qw column: not a multibody trajectory", csv.string()));
+  std::vector<std::size_t> cq, cx, cw;
+  for (const std::string& b : g.bodies) {
+    cq.push_back(column(b + ".qw"));
+    cx.push_back(column(b + ".x"));
+    cw.push_back(column(b + ".wx"));
+  }
+  while (std::getline(in, line)) {
+    const std::vector<std::string> cells = split(line);
+    if (cells.size() < header.size()) break;  // a row cut short: the rows before it stand
+    auto v = [&](std::size_t k) { return std::strtod(cells[k].c_str(), nullptr); };
+    g.t.push_back(v(0));
+    std::vector<Vec4> q;
+    std::vector<Vec3> x, w;
+    for (std::size_t b = 0; b < g.bodies.size(); ++b) {
+      q.emplace_back(v(cq[b]), v(cq[b] + 1), v(cq[b] + 2), v(cq[b] + 3));
+      x.emplace_back(v(cx[b]), v(cx[b] + 1), v(cx[b] + 2));
+      w.emplace_back(v(cw[b]), v(cw[b] + 1), v(cw[b] + 2));
+    }
+    g.q_WB.push_back(std::move(q));
+    g.x_W.push_back(std::move(x));
+    g.omega_W.push_back(std::move(w));
+  }
+  return g;
+}
+
+double max_body_angle(const BodyGrid& a, const BodyGrid& b) {
+  const std::size_t n = std::min(a.t.size(), b.t.size());
+  const std::size_t nb = std::min(a.bodies.size(), b.bodies.size());
+  double m = 0.0;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t k = 0; k < nb; ++k) m = std::max(m, so3::quaternion_distance(a.q_WB[i][k], b.q_WB[i][k]));
+  return n > 0 && nb > 0 ? m : std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace rigidae

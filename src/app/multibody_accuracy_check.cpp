@@ -1,0 +1,86 @@
+// The accuracy check of a multibody run: see include/rigidae/app/multibody_accuracy_check.hpp.
+#include "rigidae/app/multibody_accuracy_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace rigidae {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kSmallestSize = 1e-3;  // m
+
+// The largest distance between the centres of mass and the ground's joint points at the start.
+double mechanism_size(const MultibodySpec& spec) {
+  std::vector<Vec3> anchors;
+  for (const BodySpec& b : spec.bodies) anchors.push_back(b.x0_W);
+  for (const JointSpec& j : spec.joints) {
+    if (j.body_a == kGround) anchors.push_back(j.point_a);
+    if (j.body_b == kGround) anchors.push_back(j.point_b);
+  }
+  double size = 0.0;
+  for (std::size_t i = 0; i < anchors.size(); ++i)
+    for (std::size_t k = i + 1; k < anchors.size(); ++k) size = std::max(size, (anchors[i] - anchors[k]).norm());
+  // One free body: its joints' reach from its centre of mass.
+  for (const JointSpec& j : spec.joints) size = std::max(size, std::max(j.point_a.norm(), j.point_b.norm()));
+  return std::max(size, kSmallestSize);
+}
+
+}  // namespace
+
+bool multibody_conserves_energy(const MultibodySpec& spec) {
+  for (const BodyLoadSpec& l : spec.loads)
+    if (l.body_frame || l.torque.norm() > 0.0) return false;
+  for (const SpringSpec& s : spec.springs)
+    if (s.damping != 0.0) return false;
+  for (const JointSpec& j : spec.joints)
+    if (j.torsion_damping != 0.0 || j.torsion_stiffness != 0.0) return false;
+  return true;
+}
+
+MultibodyInvariantMonitor::MultibodyInvariantMonitor(multibody::MultibodyProblem& problem, const Scene& scene,
+                                                     StepSink* next)
+    : problem_(problem), next_(next), scene_(scene) {
+  d_ = {kNaN, kNaN, kNaN, 0.0, 0.0, kNaN};
+  const MultibodySpec& spec = *scene.multibody;
+  conservative_ = multibody_conserves_energy(spec);
+  if (conservative_) d_.energy = 0.0;
+  size_ = mechanism_size(spec);
+  for (const BodySpec& b : spec.bodies) mass_ += b.mass;
+}
+
+void MultibodyInvariantMonitor::on_output(double t, const Eigen::VectorXd& y) {
+  if (!started_) {  // the driver's first output is the consistent start
+    started_ = true;
+    const double T0 = problem_.kinetic_energy(y.data());
+    h0_ = T0 + problem_.potential_energy(y.data());
+    e_scale_ = T0 + scene_.multibody->gravity_W.norm() * size_ * mass_;
+    if (!(e_scale_ > 0.0)) e_scale_ = 1.0;  // at rest without gravity: nothing moves
+    v_scale_ = std::sqrt(2.0 * e_scale_ / mass_);
+    d_.tolerance = scene_.solver.rtol + scene_.solver.atol / std::min({1.0, size_, v_scale_});
+  }
+  if (next_) next_->on_output(t, y);
+}
+
+void MultibodyInvariantMonitor::on_step(double t, double h, int order, const Eigen::VectorXd& y) {
+  if (next_) next_->on_step(t, h, order, y);
+  ++steps_;
+  const auto [position, velocity] = problem_.drift(t, y.data());
+  d_.constraint_position = std::max(d_.constraint_position, position / size_);
+  d_.constraint_velocity = std::max(d_.constraint_velocity, velocity / v_scale_);
+  if (conservative_) {
+    const double H = problem_.kinetic_energy(y.data()) + problem_.potential_energy(y.data());
+    d_.energy = std::max(d_.energy, std::abs(H - h0_) / e_scale_);
+  }
+}
+
+std::vector<AccuracyWarning> MultibodyInvariantMonitor::warnings() const {
+  return drift_warnings(d_, steps_,
+                        {"|H - H0| relative to the kinetic energy plus m |g| L over the mechanism's size L", "", "",
+                         "max |Phi| over the joints relative to the mechanism's size",
+                         "max |G v| over the joints relative to the largest speed"});
+}
+
+}  // namespace rigidae

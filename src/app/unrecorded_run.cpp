@@ -1,0 +1,111 @@
+// A run that records nothing (see include/rigidae/app/unrecorded_run.hpp).
+#include "rigidae/app/unrecorded_run.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "rigidae/app/solve.hpp"
+#include "rigidae/core/error.hpp"
+#include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/record/observation.hpp"
+#include "rigidae/record/recorder.hpp"
+#include "rigidae/so3/rotation.hpp"
+#include "solve_multibody.hpp"
+
+namespace rigidae {
+
+namespace {
+
+// Keeps the last output state (a copy into storage sized once) and nothing else.
+class LastOutput final : public RecordingSink {
+ public:
+  explicit LastOutput(const ChartState* charts) : charts_(charts) {}
+  void on_step(double, double, int, const Eigen::VectorXd&) override {}
+  void on_output(double t, const Eigen::VectorXd& y) override {
+    t_ = t;
+    y_ = y;
+    if (charts_) chart_ = charts_->chart();
+  }
+  void on_event(const EventNote&) override {}
+  const RunExtremes& extremes() const override { return extremes_; }
+
+  double t_ = 0.0;
+  Eigen::VectorXd y_;
+  int chart_ = 0;
+
+ private:
+  const ChartState* charts_;
+  RunExtremes extremes_;  // none kept: the accuracy check of a timed run is not used
+};
+
+UnrecordedRun multibody_run(const Scene& scene) {
+  check_multibody_integrator(scene);
+  multibody::MultibodyProblem problem(scene);
+  LastOutput sink(nullptr);
+  UnrecordedRun r;
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    r.run = integrate(problem, scene.solver, scene.time, sink);
+  } catch (const SolverError& e) {
+    r.run.status = RunStatus::Failed;
+    r.run.message = e.what();
+  }
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.last.t = {sink.t_};
+  std::vector<Vec4> q;
+  std::vector<Vec3> x, w;
+  for (int i = 0; i < static_cast<int>(problem.bodies().size()); ++i) {
+    r.last.bodies.push_back(problem.bodies()[i].name);
+    q.push_back(problem.body_orientation(i, sink.y_.data()));
+    x.push_back(problem.body_position(i, sink.y_.data()));
+    w.push_back(problem.body_omega_space(i, sink.y_.data()));
+  }
+  r.last.q_WB = {q};
+  r.last.x_W = {x};
+  r.last.omega_W = {w};
+  return r;
+}
+
+}  // namespace
+
+UnrecordedRun run_unrecorded(const Scene& scene) {
+  if (scene.multibody) return multibody_run(scene);
+  std::unique_ptr<LastOutput> sink;
+  Observation last;
+  // The problem lives inside solve_with: the last state is observed when the
+  // run closes its sink (after the timed part).
+  const SolveOutcome o = solve_with(scene, [&](const ChartState& problem) {
+    sink = std::make_unique<LastOutput>(&problem);
+    return RunSink{sink.get(), [&] {
+                     Observer observer(problem.system(), scene);
+                     if (sink->y_.size() > 0) last = observer.observe(sink->t_, sink->y_, sink->chart_);
+                   }};
+  });
+  UnrecordedRun r;
+  r.run = o.run;
+  r.wall_seconds = o.wall_seconds;
+  r.last.bodies = {"body"};
+  r.last.t = {sink->t_};
+  r.last.q_WB = {{last.q_WB}};
+  r.last.x_W = {{Vec3::Zero()}};
+  r.last.omega_W = {{last.omega_B}};
+  return r;
+}
+
+double final_orientation_error(const UnrecordedRun& r, const ReferenceTrajectory& ref) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  if (!ref.ok || r.run.status != RunStatus::Success || r.last.t.empty() || ref.t.empty()) return kNaN;
+  if (std::abs(r.last.t[0] - ref.t.back()) > 1e-9 * std::max(1.0, std::abs(ref.t.back()))) return kNaN;
+  double worst = 0.0;
+  if (ref.multibody) {
+    const std::vector<Vec4>& q_ref = ref.bodies.q_WB.back();
+    if (q_ref.size() != r.last.q_WB[0].size()) return kNaN;
+    for (std::size_t b = 0; b < q_ref.size(); ++b)
+      worst = std::max(worst, so3::quaternion_distance(r.last.q_WB[0][b], q_ref[b]));
+    return worst;
+  }
+  return so3::quaternion_distance(r.last.q_WB[0][0], ref.q_WB.back());
+}
+
+}  // namespace rigidae

@@ -1,0 +1,136 @@
+// Studies over multibody scenes and over integrators: a multibody study runs
+// end to end against its tight reference (errors fall as rtol falls), its
+// rows carry the timing of runs that record nothing and the machine they ran
+// on; the integrators axis runs ODE integrators where they are valid, and an
+// integrator a study cannot run is a positioned error.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "rigidae/app/study.hpp"
+#include "rigidae/core/error.hpp"
+
+using namespace rigidae;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / "rigidae_study_tests" / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A shipped multibody scene over a short span (its name kept).
+void short_copy(const std::string& problem, const fs::path& to, const std::string& end) {
+  std::string text = slurp(std::string(RIGIDAE_SOURCE_DIR) + "/problems/" + problem);
+  const std::size_t at = text.find("\n[time]");
+  REQUIRE(at != std::string::npos);
+  const std::size_t end_line = text.find("\nend = ", at);
+  REQUIRE(end_line != std::string::npos);
+  text.replace(end_line + 7, text.find('\n', end_line + 1) - end_line - 7, end);
+  std::ofstream(to) << text;
+}
+
+std::string load_error(const fs::path& file) {
+  try {
+    load_study(file.string());
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+}  // namespace
+
+TEST_CASE("a study over a multibody scene: errors against the tight reference fall as rtol falls") {
+  const fs::path dir = fresh_dir("multibody");
+  short_copy("double_pendulum.toml", dir / "dp.toml", "0.3");
+  std::ofstream(dir / "study.toml") << "schema_version = 1\nname = \"mb\"\nscenes = [\"dp.toml\"]\n"
+                                       "[grid]\ncombinations = [\"quaternion/euler/ggl\", \"euler/lagrange/index1\"]\n"
+                                       "rtol = [1e-5, 1e-7, 1e-9]\n[timing]\nwarmups = 0\nrepeats = 2\n";
+  const StudySpec spec = load_study((dir / "study.toml").string());
+  const std::vector<StudyRun> plan = plan_study(spec);
+  REQUIRE(plan.size() == 6);
+  StudyRunOptions opt;
+  opt.out = dir / "out";
+  REQUIRE(run_study(spec, plan, opt));
+  for (std::size_t c = 0; c < 2; ++c) {
+    double previous = INFINITY;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const StudyRun& r = plan[3 * c + k];  // loose to tight
+      CAPTURE(r.id(spec));
+      const nlohmann::json j = nlohmann::json::parse(slurp(run_folder(opt.out, spec, r) / "run.json"));
+      REQUIRE(j["status"] == "success");
+      const double err = j["errors"]["orientation_rad"]["final"].get<double>();
+      MESSAGE(r.id(spec) << ": final error " << err << " rad, position "
+                         << j["errors"]["position_m"]["final"].get<double>() << " m");
+      CHECK(err < previous);
+      CHECK(err < 1e3 * r.rtol);
+      previous = err;
+      // The timed runs record nothing and take the same steps; their final
+      // state gives the same error as the recorded run's last grid point.
+      CHECK(j["wall_s"].size() == 2);
+      CHECK(j["timing"]["same_steps_as_recorded"] == true);
+      CHECK(j["timing"]["final_error_rad"].get<double>() == doctest::Approx(err).epsilon(1e-6));
+      for (const char* key : {"host", "cpu_model", "load_average", "commit", "compiler"})
+        CHECK_FALSE(j["machine"][key].get<std::string>().empty());
+    }
+  }
+  std::vector<std::string> missing;
+  collect_study(spec, opt.out, &missing);
+  CHECK(missing.empty());
+  const std::string csv = slurp(opt.out / "results.csv");
+  for (const char* column : {",integrator,", ",position_error_final_m,", ",final_state_error_rad,", ",cpu_model,",
+                             ",load_average,", ",commit,", ",compiler"})
+    CHECK(csv.find(column) != std::string::npos);
+}
+
+TEST_CASE("a study's integrators axis: valid pairs only, and positioned errors") {
+  const fs::path dir = fresh_dir("integrators");
+  std::ofstream(dir / "top.toml") << slurp(std::string(RIGIDAE_SOURCE_DIR) + "/problems/heavy_top.toml");
+  short_copy("four_bar.toml", dir / "four_bar.toml", "0.1");
+  const std::string head = "schema_version = 1\nscenes = [\"top.toml\"]\n[grid]\nrtol = [1e-6]\n";
+  std::ofstream(dir / "ok.toml") << head
+                                 << "integrators = [\"ida\", \"cvode-adams\", \"arkode-erk:dopri5\"]\n"
+                                    "combinations = [\"quaternion/euler/*\"]\n";
+  const StudySpec spec = load_study((dir / "ok.toml").string());
+  std::vector<std::string> names;
+  for (const StudyRun& r : plan_study(spec)) names.push_back(r.combination.name());
+  // IDA runs every scheme; the ODE integrators index1 and projection only.
+  CHECK(names.size() == 6 + 2 + 2);
+  CHECK(std::count(names.begin(), names.end(), "quaternion/euler/projection@cvode-adams") == 1);
+  CHECK(std::count(names.begin(), names.end(), "quaternion/euler/index1@arkode-erk:dopri5") == 1);
+  CHECK(std::count(names.begin(), names.end(), "quaternion/euler/ggl@cvode-adams") == 0);
+
+  std::ofstream(dir / "bad1.toml") << head << "integrators = [\"ida\", \"cvode-adam\"]\n";
+  std::string m = load_error(dir / "bad1.toml");
+  CHECK(m.find("bad1.toml:5:23: error: 'grid.integrators[1]' = \"cvode-adam\" is not an integrator; valid: ida, "
+               "cvode-adams") != std::string::npos);
+  std::ofstream(dir / "bad2.toml") << head << "integrators = [\"arkode-erk:rk4\"]\n";
+  m = load_error(dir / "bad2.toml");
+  CHECK(m.find("bad2.toml:5:16: error: 'grid.integrators[0]'") != std::string::npos);
+  CHECK(m.find("arkode-erk:fehlberg78") != std::string::npos);
+  std::ofstream(dir / "bad3.toml") << "schema_version = 1\nscenes = [\"four_bar.toml\"]\n[grid]\nrtol = [1e-6]\n"
+                                      "integrators = [\"ida\", \"cvode-adams\"]\n";
+  m = load_error(dir / "bad3.toml");
+  CHECK(m.find("bad3.toml:5:23: error: 'grid.integrators[1]' = \"cvode-adams\", but scene 'four_bar' has bodies and "
+               "joints") != std::string::npos);
+  CHECK(m.find("ida only") != std::string::npos);
+  std::ofstream(dir / "bad4.toml") << head << "integrators = [\"ida\"]\ncombinations = [\"*@cvode-adams\"]\n";
+  m = load_error(dir / "bad4.toml");
+  CHECK(m.find("bad4.toml:6:17: error: 'grid.combinations[0]' = \"*@cvode-adams\" matches no combination") !=
+        std::string::npos);
+}
