@@ -91,6 +91,22 @@ QUANTITY = {  # key -> (y label, short description)
 
 
 # ----------------------------------------------------------------------------
+# Multibody compare folders (schema-2 scenes)
+
+
+def label_multibody_quantities(runs):
+    """A multibody scene's steps.csv has the same column names with other units:
+    drift_position is max |Φ| over the joints (m for point rows, rad for angular
+    rows), drift_velocity max |G v| (m/s, rad/s), energy_rel_error (H − H₀)/max(|H₀|, 1 J).
+    Every coordinates x form carries constraints (the joints), Euler angles too."""
+    if not any(r.summary.get("schema_version") == 2 for r in runs):
+        return
+    QUANTITY["drift_position"] = ("max |Φ| over the joints  (m or rad)", "joint position-level residual max |Φ|")
+    QUANTITY["drift_velocity"] = ("max |G v| over the joints  (m/s or rad/s)", "joint velocity-level residual max |G v|")
+    QUANTITY["energy_rel_error"] = ("|H − H₀| / max(|H₀|, 1 J)", "relative energy error of the mechanism")
+
+
+# ----------------------------------------------------------------------------
 # Reading
 
 
@@ -832,6 +848,7 @@ def main(argv=None):
     os.makedirs(outdir, exist_ok=True)
 
     load_all(runs, a.bins)
+    label_multibody_quantities(runs)
     ctx = Context(root, runs, outdir, a.bins)
     plt.rcParams.update({"font.size": 10.5, "axes.titlepad": 6})
 
