@@ -278,6 +278,12 @@ std::string format_compare_table(const CompareReport& r) {
       any_failed = true;
       s += fmt::format("  {}: {}\n", row.combination.name(), row.outcome.run.message);
     }
+  // A multibody scene's start notes are the scene's, the same for every row: once.
+  std::vector<std::string> start_notes;
+  for (const CompareRow& row : r.rows)
+    for (const std::string& w : row.outcome.start_warnings)
+      if (std::find(start_notes.begin(), start_notes.end(), w) == start_notes.end()) start_notes.push_back(w);
+  for (const std::string& w : start_notes) s += fmt::format("scene warning: {}\n", w);
   bool any_warned = false;
   for (const CompareRow& row : r.rows)
     if (!row.outcome.warnings.empty()) {

@@ -117,7 +117,7 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
         {"abs_energy_rel_error", o.extremes.max_abs_energy_error}}},
       {"final", {{"energy", recorder.last_energy()}, {"initial_energy", recorder.initial_energy()}}},
   };
-  for (const std::string& w : problem.warnings()) fmt::print(stderr, "rigidae: warning: {}\n", w);
+  o.start_warnings = problem.warnings();  // printed by the command (solve: each run; compare: once)
   write_file_atomically(out_dir / "summary.json", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   return o;
 }

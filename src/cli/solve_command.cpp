@@ -71,6 +71,7 @@ int solve_command(const std::vector<std::string>& args) {
   create_output_folder(out, /*disposable=*/true);
   const SolveOutcome o = solve_scene(scene, out);
   if (!quiet || o.run.status != RunStatus::Success) print_report(scene, o);
+  for (const std::string& w : o.start_warnings) fmt::print(stderr, "rigidae: warning: {}\n", w);
   // Accuracy warnings (app/accuracy_check.hpp) reach stderr even with --quiet.
   for (const AccuracyWarning& w : o.warnings) fmt::print(stderr, "rigidae: warning: {}\n", w.message);
   if (o.run.status != RunStatus::Success) {

@@ -225,7 +225,8 @@ std::vector<Setting> make_table() {
        .default_text = "every combination",
        .help = "comma-separated patterns of combinations to run: 'quaternion/*/ggl' globs the whole name, a bare "
                "word ('ggl', 'linear', 'index*') matches any one part ('euler' matches both Euler angles and the "
-               "Euler form)"});
+               "Euler form); '@INTEGRATOR' selects ODE-integrator rows ('*@cvode-adams', 'quaternion/*/*@*'), "
+               "without it a pattern selects IDA rows, and a bare integrator name ('arkode-erk') its rows"});
   row({.option = "--skip", .commands = kCompare, .kind = Kind::Text, .metavar = "LIST", .default_text = "none",
        .help = "patterns of combinations to leave out"});
   row({.option = "--shard", .commands = kStudy, .kind = Kind::Text, .metavar = "i/N", .default_text = "none",

@@ -25,6 +25,7 @@ struct SolveOutcome {
   std::vector<std::string> multiplier_names;
   InvariantDrifts drifts;                 // the accuracy check's measures (app/accuracy_check.hpp)
   std::vector<AccuracyWarning> warnings;  // those past their limits
+  std::vector<std::string> start_warnings;  // multibody: the start's notes (projected misses, unmodelled parts)
   std::vector<SchemeParameter> scheme_parameters;  // as the scheme used them
   bool output_lost = false;               // a record could not be written (run.message says which)
 };
