@@ -115,7 +115,7 @@ std::vector<std::map<std::string, std::string>> compare_rows(const fs::path& csv
   return rows;
 }
 
-TEST_CASE("multibody cli: compare runs a multibody scene against its tight reference; errors fall with rtol") {
+TEST_CASE("multibody cli: compare runs a multibody scene against its tight reference, and errors fall with rtol") {
   // Independent truth: a tight run (rtol 1e-12) of the same scene, itself
   // cross-checked by other coordinates. Short span: the double pendulum is chaotic.
   double previous[3] = {0, 0, 0};
@@ -136,7 +136,7 @@ TEST_CASE("multibody cli: compare runs a multibody scene against its tight refer
       CAPTURE(row.at("combination"));
       CHECK(row.at("status") == "success");
       const double err = std::stod(row.at("error_final_rad")), pos = std::stod(row.at("error_position_final_m"));
-      MESSAGE(row.at("combination") << " rtol " << rtol << ": final error " << err << " rad, position " << pos << " m");
+      MESSAGE(row.at("combination") << " rtol " << std::string(rtol) << ": final error " << err << " rad, position " << pos << " m");
       CHECK(err > 0.0);
       CHECK(err < 1e3 * std::stod(rtol));  // within the tolerance's order, not off the reference
       CHECK(std::isfinite(pos));
