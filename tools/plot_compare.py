@@ -3,43 +3,59 @@
 each coordinate representation and equation form.
 
 Usage:
-    /usr/bin/python3 tools/plot_compare.py DIR [--out FIGDIR] [--bins N] [--quiet]
+    /usr/bin/python3 tools/plot_compare.py DIR [--out FIGDIR] [--bins N] [--axis auto|x|y|z] [--quiet]
 
-DIR is the folder written by `rigidae compare SCENE --out DIR`. Every subfolder
-of DIR holding a summary.json is one run; `reference/` is the reference run,
-drawn (black dotted) only in the panel of its own representation. compare.csv
-is used, if present, only for the scene name. The figures go to DIR/figures/
-(or FIGDIR) and their paths are printed. Panels are always laid out with one
+DIR is the folder written by `rigidae compare SCENE --out DIR` (`--plot` calls
+this script). Every subfolder of DIR holding a summary.json is one run;
+`reference/` is a tight reference run, drawn (black dotted) only in the panel
+of its own representation; DIR/reference.csv (or reference/trajectory.csv) is
+the reference on the output grid; compare.csv gives the scene name, the
+schemes and the errors at the end. The figures go to DIR/figures/ (or FIGDIR),
+each as PNG and PDF, and their paths are printed. Panels are laid out with one
 row per coordinates (euler, quaternion, linear) and one column per equation
-form (lagrange, euler); one line per scheme:
+form (lagrange, euler), with shared axes; one line per scheme:
 
+  error.png           angle between each run's orientation and the reference at
+                      every output time (trajectory.csv), log axis.
   drift_position.png  |Phi(q)| at every IDA step against t, log axis, one panel
                       per constrained representation (2 x 2).
   drift_velocity.png  the same for the velocity level |dPhi/dt| (1/s).
   multipliers.png     the Euclidean norm of the lambda_* columns (generalized
                       constraint force, J) and of the mu_* columns (kinematic
-                      multiplier, 1/s); columns: lagrange-lambda, lagrange-mu,
-                      euler-mu (whichever exist). A column is drawn on a log
-                      axis when its values span more than two decades,
-                      otherwise on a linear one.
-  energy_error.png    |relative energy error| against t, log axis, all six
-                      representations (3 x 2), Euler-angle chart switches
-                      (events.csv) as ticks on the time axis.
-  summary.png         per run: max |Phi| and max |energy error| (summary.json)
-                      against IDA steps; colour: scheme, marker: coordinates,
-                      filled/open: lagrange/euler form.
+                      multiplier, 1/s) on log axes, so that a start spike does
+                      not flatten the rest; columns: lagrange-lambda,
+                      lagrange-mu, euler-mu (whichever exist).
+  energy_error.png    |relative energy error| against t, log axis, Euler-angle
+                      chart switches (events.csv) as ticks on the time axis.
+  momentum_error.png  |relative error of the vertical angular momentum|.
+  step_size.png       IDA's step size h (smallest per time bin), log axis.
+  order.png           IDA's BDF order (mean per time bin).
+  axis_trace.png      a body axis (--axis; default the symmetry axis, the
+                      principal axis about the pivot whose moment stands apart)
+                      in space on the unit sphere, with the reference's.
+  summary.png         per run: error at the end (compare.csv), max |Phi| and
+                      max |energy error| (summary.json) against IDA steps;
+                      colour: scheme, marker: coordinates, filled/open:
+                      lagrange/euler form.
+  identical_runs.json the runs drawn once because another run is the same
+                      computation (tools/identical_runs.py: equal step
+                      histories bit for bit, or equal until a time); the
+                      panels name them ("index3 = ggl", "projection = index1
+                      until t = ...").
 
 Each known scheme has a fixed colour and line style (ggl, index1, index2,
 index3, baumgarte, projection; others get the next free style), so that the
 figures of different compare folders are comparable. The Euler-angle
-coordinates have no constraints: they appear in energy_error.png and
-summary.png only. A failed or interrupted run is drawn as far as its steps.csv
-goes (a half-written last line is skipped), ends in an X marker, and its panel
-says in red where and why it stopped. Long runs are decimated per time bin
-(--bins): the largest value per bin on log axes, the smallest and largest on
-linear ones, so isolated spikes stay visible. A log axis starts a little under
-the 0.5th percentile of its positive values (never under 1e-17); smaller
-values and exact zeros are drawn on the bottom edge, as the subtitle says.
+coordinates have no constraints: they are left out of the drift and
+multiplier figures. A failed or interrupted run is drawn as far as its
+steps.csv goes (a half-written last line is skipped), ends in an X marker, and
+its panel says in red where and why it stopped. Long runs are decimated per
+time bin (--bins): the largest value per bin on log axes, the smallest and
+largest on linear ones, so isolated spikes stay visible. A log axis starts a
+little under the 0.5th percentile of its positive values (never under 1e-17);
+smaller values and exact zeros are drawn on the bottom edge, as the subtitle
+says. Step figures need steps.csv: compare keeps it with --plot or
+--keep-steps.
 
 Exit codes: 0 figures written, 2 DIR is not a compare folder (no run folders)
 or a bad command line. Needs numpy and matplotlib (Debian's /usr/bin/python3).

@@ -105,8 +105,9 @@ def draw(rows, scene, error_column, x_of, x_label, title, path, guide=False):
                     continue
                 pts.sort(reverse=True)  # loose to tight
                 ax.plot([p[1] for p in pts], [p[2] for p in pts], marker="o", markersize=3.2, **styles.kw(s))
-                ax.annotate(pc.fmt_num(pts[0][0]), (pts[0][1], pts[0][2]), fontsize=7, color="0.4",
-                            xytext=(3, 3), textcoords="offset points")
+                if not guide:  # against rtol the x axis says it already
+                    ax.annotate(pc.fmt_num(pts[0][0]), (pts[0][1], pts[0][2]), fontsize=7, color="0.4",
+                                xytext=(3, 3), textcoords="offset points")
                 xs += [p[1] for p in pts]
                 ys += [p[2] for p in pts]
                 schemes.add(s)
@@ -132,9 +133,9 @@ def draw(rows, scene, error_column, x_of, x_label, title, path, guide=False):
     handles = [Line2D([], [], marker="o", markersize=4, label=s, **styles.kw(s)) for s in styles.order if s in schemes]
     if guide:
         handles.append(Line2D([], [], color="0.55", linewidth=0.9, linestyle=(0, (4, 3)), label="error = rtol"))
-    subtitle = (f"{len(rows)} runs over rtol {pc.fmt_num(min(rtols))} … {pc.fmt_num(max(rtols))} (each point one "
-                f"tolerance, the loosest labelled); error: {error_column}; {left_out} failed or unmeasured runs "
-                f"left out")
+    points = "each point one tolerance" + ("" if guide else ", the loosest labelled")
+    subtitle = (f"{len(rows)} runs over rtol {pc.fmt_num(min(rtols))} … {pc.fmt_num(max(rtols))} ({points}); "
+                f"error: {error_column}; {left_out} failed or unmeasured runs left out")
     return pc.finish_figure(fig, f"{scene}: {title}", subtitle, handles, path)
 
 
