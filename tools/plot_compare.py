@@ -1163,7 +1163,10 @@ def main(argv=None):
         plot_summary(ctx),
     ]
     if not a.quiet:
-        if not ctx.constrained:
+        if not any(r.has_steps() for r in ctx.runs):
+            print("plot_compare: no run kept its steps.csv (compare keeps them with --plot or --keep-steps): "
+                  "the drift, multiplier, invariant and step figures are skipped", file=sys.stderr)
+        elif not ctx.constrained:
             print("plot_compare: no run has constraints: drift and multiplier figures skipped", file=sys.stderr)
         for p in written:
             if p:

@@ -112,7 +112,8 @@ def draw(rows, scene, error_column, x_of, x_label, title, path, guide=False):
                 ys += [p[2] for p in pts]
                 schemes.add(s)
             failed = sum(r["status"] != "success" for r in rows if (r["coordinates"], r["equations"]) == (c, e))
-            pc.panel_title(ax, f"{c} / {e}", [f"{failed} failed runs left out"] if failed else [], infos)
+            notes = [f"{failed} failed run{'s' if failed > 1 else ''} left out"] if failed else []
+            pc.panel_title(ax, f"{c} / {e}", notes, infos)
             ax.set_xscale("log")
             ax.set_yscale("log")
             ax.grid(True, which="major", alpha=0.35)
