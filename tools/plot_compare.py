@@ -1027,12 +1027,19 @@ def write_identical(ctx, path):
 
 
 def sphere_view(xyz):
-    """(elevation, azimuth) in degrees looking at the mean point of a trace, so that it faces the reader."""
-    m = np.mean(xyz, axis=0) if xyz is not None and len(xyz) else np.array([1.0, -1.0, 0.5])
-    if np.linalg.norm(m) < 1e-6:
-        m = np.array([1.0, -1.0, 0.5])
-    m = m / np.linalg.norm(m)
-    return float(np.degrees(np.arcsin(np.clip(m[2], -0.9, 0.9)))), float(np.degrees(np.arctan2(m[1], m[0])))
+    """(elevation, azimuth) in degrees of a view that shows a trace on the sphere: from between its
+    mean direction (the side it is on) and the normal of its best-fit plane (so that a circle, such
+    as a spinning body's transverse axis, is seen as an ellipse, not edge-on)."""
+    default = np.array([1.0, -1.0, 0.5])
+    if xyz is None or not len(xyz):
+        v = default
+    else:
+        m = np.mean(xyz, axis=0)
+        m = m / np.linalg.norm(m) if np.linalg.norm(m) > 1e-6 else default / np.linalg.norm(default)
+        n = np.linalg.svd(xyz - xyz.mean(axis=0), full_matrices=False)[2][-1]
+        v = m + (n if n @ m >= 0 else -n)
+    v = v / np.linalg.norm(v)
+    return float(np.degrees(np.arcsin(np.clip(v[2], -0.9, 0.9)))), float(np.degrees(np.arctan2(v[1], v[0])))
 
 
 def sphere_panel(ax, view=(25, -60)):

@@ -64,9 +64,12 @@ def plot_run(folder, outdir, nbins, axis_choice):
     form = conf.get("formulation") or {}
     time = conf.get("time") or {}
     t0, t1 = time.get("start", 0.0), time.get("end", 1.0)
-    name = conf.get("name") or os.path.basename(os.path.abspath(folder))
+    if "bodies" in summary:  # a multibody summary is flat
+        form = {k: summary.get(k, "?") for k in ("coordinates", "equations", "scheme")}
+        t1 = summary.get("t_reached", t1)
+    name = conf.get("name") or os.path.splitext(os.path.basename(str(summary.get("scene") or folder)))[0]
     combo = f"{form.get('coordinates', '?')}/{form.get('equations', '?')}/{form.get('scheme', '?')}"
-    solver = conf.get("solver") or {}
+    solver = conf.get("solver") or {k: summary.get(k) for k in ("rtol", "atol")}
 
     def dec(key, mode="max", absolute=True):
         if key not in steps or steps[key].size == 0:
@@ -76,8 +79,9 @@ def plot_run(folder, outdir, nbins, axis_choice):
 
     panels = []
     err = error_series(folder, grid)
-    panels.append("error")
-    panels.append("axis")
+    multibody = "bodies" in summary  # schema 2: per-body columns; no closed form, no single body axis
+    if not multibody:
+        panels += ["error", "axis"]
     if "h" in steps:
         panels.append("step")
     panels.append("invariants")
@@ -139,12 +143,13 @@ def plot_run(folder, outdir, nbins, axis_choice):
                       if k in steps]
             data = [(dec(k), lab, c) for k, lab, c in series]
             bottom = log_axis(ax, [d[0][1] for d in data if d[0] is not None])
+            ax.set_title("energy error" if len(data) == 1 else "energy and vertical angular momentum error",
+                         fontsize=11, fontweight="bold", loc="left")
             for d, lab, c in data:
                 if d is not None:
                     ax.plot(d[0], np.maximum(d[1], bottom), color=c, linewidth=1.0, label=lab)
             ax.set_ylabel("relative error  (dimensionless)")
             ax.legend(fontsize=9, loc="lower right")
-            ax.set_title("energy and vertical angular momentum error", fontsize=11, fontweight="bold", loc="left")
         elif kind == "drift":
             data = [(dec(k), lab, c) for k, lab, c in (("drift_position", "|Φ(q)|", "#2ca02c"),
                                                          ("drift_velocity", "|dΦ/dt| (1/s)", "#9467bd")) if k in drift]
@@ -192,9 +197,6 @@ def main(argv=None):
         print(f"plot_solve: error: '{a.dir}' is not a run folder (no summary.json); make one with "
               f"'rigidae solve SCENE --out DIR'", file=sys.stderr)
         return 2
-    if json.load(open(os.path.join(a.dir, "summary.json"))).get("configuration", {}).get("bodies"):
-        print("plot_solve: multibody runs are not drawn yet (one body's columns only)", file=sys.stderr)
-        return 0
     path = plot_run(a.dir, a.out or os.path.join(a.dir, "figures"), a.bins, a.axis)
     if not a.quiet:
         print(path)

@@ -152,3 +152,25 @@ def test_study_figures_are_faceted_and_name_identical_schemes(tmp_path):
     assert same.get(("quaternion", "euler", "index3")) == "ggl"
     assert same.get(("linear", "euler", "index3")) == "ggl"
     assert not any(e == "lagrange" for (_, e, _) in same)
+
+
+def test_solve_plot_of_a_multibody_scene(tmp_path):
+    """A mechanism has no closed form: no reference.csv, and the page draws what steps.csv has."""
+    out = tmp_path / "mb"
+    code, _, err = run_cli("solve", SOURCE / "problems" / "four_bar.toml", "--t-end", "0.1", "--out", out, "--plot",
+                           "--quiet")
+    assert code == 0, err
+    assert not (out / "reference.csv").exists()
+    assert (out / "figures" / "run.png").stat().st_size > 5000
+    assert "warning" not in err
+
+
+def test_sphere_view_sees_a_circle_face_on_enough():
+    """A body axis turning in the x-z plane (a spin about y) must not be drawn edge-on: the view direction
+    keeps a component along the circle's normal y."""
+    u = np.linspace(0, 4.0, 200)
+    xyz = np.stack([np.cos(u), np.zeros_like(u), np.sin(u)], 1)
+    elev, azim = plot_compare.sphere_view(xyz)
+    v = np.array([np.cos(np.radians(elev)) * np.cos(np.radians(azim)),
+                  np.cos(np.radians(elev)) * np.sin(np.radians(azim)), np.sin(np.radians(elev))])
+    assert abs(v[1]) > 0.5
