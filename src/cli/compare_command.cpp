@@ -62,7 +62,9 @@ int compare_command(const std::vector<std::string>& args) {
   write_compare_outputs(report, opt.out);
   write_reference_csv(report.reference, opt.out / "reference.csv");  // error against time, for the figures
   if (!quiet) fmt::print("{}", format_compare_table(report));
-  if (!quiet) fmt::print("outputs: {}/ (compare.csv, compare.txt, compare.md, reference.csv, one folder per combination)\n", opt.out.string());
+  if (!quiet)
+    fmt::print("outputs: {}/ (compare.csv, compare.txt, compare.md, {}one folder per combination)\n", opt.out.string(),
+               report.reference.ok ? "reference.csv, " : "");
 
   if (plot) {
     std::vector<std::string> plot_args{opt.out.string()};
