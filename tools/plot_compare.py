@@ -28,7 +28,7 @@ form (lagrange, euler), with shared axes; one line per scheme:
   energy_error.png    |relative energy error| against t, log axis, Euler-angle
                       chart switches (events.csv) as ticks on the time axis.
   momentum_error.png  |relative error of the vertical angular momentum|.
-  step_size.png       IDA's step size h (smallest per time bin), log axis.
+  step_size.png       IDA's step size h (geometric mean per time bin), log axis.
   order.png           IDA's BDF order (mean per time bin).
   axis_trace.png      a body axis (--axis; default the symmetry axis, the
                       principal axis about the pivot whose moment stands apart)
@@ -241,6 +241,8 @@ def decimate(t, y, nbins, mode):
     lengths = np.diff(np.r_[starts, n])
     if mode == "mean":  # one point per bin: the bin's mean value at the bin's mean time
         return np.add.reduceat(t, starts) / lengths, np.add.reduceat(y, starts) / lengths
+    if mode == "gmean":  # the geometric mean (positive data on log axes: the typical step size)
+        return np.add.reduceat(t, starts) / lengths, np.exp(np.add.reduceat(np.log(y), starts) / lengths)
     if mode == "min":  # the smallest value per bin (e.g. the step size: where the solver struggles)
         tt, yy = decimate(t, -y, nbins, "max")
         return tt, -yy
@@ -312,6 +314,11 @@ def body_axis_trace(grid, axis_B, npoints):
     return quaternion_matrix(q) @ np.asarray(axis_B, dtype=float)
 
 
+def smooth_bins(nbins):
+    """Bins for the averaged series (step size, order)."""
+    return max(10, nbins // 5)
+
+
 def load_series(args):
     """Worker: read one run's steps.csv and trajectory.csv and return decimated series (small arrays only)."""
     folder, nbins, ref, axis_B = args
@@ -356,9 +363,11 @@ def load_series(args):
             "max": float(finite.max()) if finite.size else float("nan"),
             "p1_pos": float(np.percentile(pos, 1)) if pos.size else float("nan"),
         }
-        modes = {"lambda": ("max", "minmax"), "mu": ("max", "minmax"), "h": ("min",), "order": ("mean",)}.get(
+        modes = {"lambda": ("max", "minmax"), "mu": ("max", "minmax"), "h": ("min", "gmean"), "order": ("mean",)}.get(
             key, ("max",))
-        out["series"][key] = {m: decimate(t, y, nbins, m) for m in modes}
+        # averages (step size, order) over coarser bins: a typical value, not every step's jitter
+        out["series"][key] = {m: decimate(t, y, smooth_bins(nbins) if m in ("gmean", "mean") else nbins, m)
+                              for m in modes}
         out["last"][key] = (float(t[-1]), float(y[-1]))
     out["t_last"] = float(t[-1])
     return out
@@ -834,7 +843,8 @@ def plot_per_representation(ctx, key, coords_list, filename, title, chart_switch
             if log:
                 ax.set_ylim(bottom, top)
     if note is None:
-        note = {"max": "largest value", "min": "smallest value", "mean": "mean"}[mode] + f" per time bin ({ctx.nbins} bins)"
+        note = {"max": "largest value", "min": "smallest value", "mean": "mean", "gmean": "geometric mean"}[mode] + \
+            f" per time bin ({ctx.nbins} bins)"
     if clipped:
         note += "; " + clip_note(bottom)
     omitted = [c for c in ctx.coords if c not in coords_list]
@@ -1163,9 +1173,12 @@ def main(argv=None):
                                 QUANTITY["vertical_momentum_rel_error"][1] + " at every IDA step",
                                 chart_switches=True),
         plot_per_representation(ctx, "h", ctx.coords, "step_size.png", "step size against time",
-                                chart_switches=True, mode="min"),
+                                chart_switches=True, mode="gmean",
+                                note=f"geometric mean of the steps in each of {smooth_bins(ctx.nbins)} time bins (a restart's "
+                                     f"order-1 steps pull a bin down); chart switches as ticks"),
         plot_per_representation(ctx, "order", ctx.coords, "order.png", "BDF order against time", log=False,
-                                mode="mean", note=f"mean order of the steps in each of {ctx.nbins} time bins"),
+                                mode="mean",
+                                note=f"mean order of the steps in each of {smooth_bins(ctx.nbins)} time bins"),
         plot_axis_trace(ctx),
         plot_summary(ctx),
     ]

@@ -12,7 +12,7 @@ this script). Writes DIR/figures/run.png and run.pdf:
                (`solve --plot` writes it when the scene has a closed form) or
                trajectory.csv has an orientation-error column
   axis         the traced body axis (default: the symmetry axis) on the unit sphere
-  step         step size h (log axis, smallest per time bin) and the BDF order
+  step         step size h (log axis, geometric mean per time bin) and the BDF order
                (mean per time bin, right axis) from steps.csv
   invariants   |relative energy error| and |relative vertical-momentum error|
   drift        |Phi(q)| and |dPhi/dt| (constrained coordinates only)
@@ -126,13 +126,13 @@ def plot_run(folder, outdir, nbins, axis_choice):
                             textcoords="offset points", fontsize=8.5, color="0.35", va="bottom")
             ax.set_title("orientation error", fontsize=11, fontweight="bold", loc="left", pad=16)
         elif kind == "step":
-            th = dec("h", "min", absolute=False)
+            th = pc.decimate(steps["t"], steps["h"], pc.smooth_bins(nbins), "gmean")
             bottom = log_axis(ax, [th[1]])
-            ax.plot(th[0], th[1], color="#1f77b4", linewidth=1.0, label="h (smallest per bin)")
-            ax.set_ylabel("step size h  (s)", color="#1f77b4")
+            ax.plot(th[0], th[1], color="#1f77b4", linewidth=1.0)
+            ax.set_ylabel("step size h  (s, geometric mean per bin)", color="#1f77b4")
             if "order" in steps:
                 ax2 = ax.twinx()
-                to = dec("order", "mean", absolute=False)
+                to = pc.decimate(steps["t"], steps["order"], pc.smooth_bins(nbins), "mean")
                 ax2.plot(to[0], to[1], color="#d62728", linewidth=0.8, alpha=0.8)
                 ax2.set_ylim(0.5, max(5.5, float(np.nanmax(to[1])) + 0.5))
                 ax2.set_ylabel("BDF order (mean per bin)", color="#d62728")
