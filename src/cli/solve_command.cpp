@@ -6,6 +6,9 @@
 #include "rigidae/core/error.hpp"
 #include "rigidae/app/command_line.hpp"
 #include "output_folder.hpp"
+#include "plot_script.hpp"
+#include "reference_csv.hpp"
+#include "rigidae/app/reference.hpp"
 
 namespace rigidae::cli {
 
@@ -73,6 +76,15 @@ int solve_command(const std::vector<std::string>& args) {
   if (!quiet || o.run.status != RunStatus::Success) print_report(scene, o);
   // Accuracy warnings (app/accuracy_check.hpp) reach stderr even with --quiet.
   for (const AccuracyWarning& w : o.warnings) fmt::print(stderr, "rigidae: warning: {}\n", w.message);
+  if (cl.has("--plot")) {
+    // The closed form on the output grid, when the scene has one, so that the
+    // figures can draw the error against time.
+    if (!scene.multibody)
+      if (const auto ref = exact_reference(scene, nullptr)) write_reference_csv(*ref, out / "reference.csv");
+    std::vector<std::string> plot_args{out.string()};
+    if (quiet) plot_args.push_back("--quiet");
+    run_plot_script("plot_solve.py", plot_args);
+  }
   if (o.run.status != RunStatus::Success) {
     fmt::print(stderr, "rigidae: error: {}\n", o.run.message);
     return 1;

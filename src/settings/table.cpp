@@ -235,8 +235,9 @@ std::vector<Setting> make_table() {
   row({.option = "--out", .commands = kSolve | kCompare | kStudy, .kind = Kind::Text, .metavar = "DIR",
        .default_text = "out/NAME-COORDINATES-EQUATIONS-SCHEME, out/NAME-compare, out/STUDY_NAME",
        .help = "output folder"});
-  row({.option = "--plot", .commands = kCompare, .kind = Kind::Boolean, .flag_value = "true", .default_text = "off",
-       .help = "draw figures with tools/plot_compare.py into DIR/figures"});
+  row({.option = "--plot", .commands = kSolve | kCompare, .kind = Kind::Boolean, .flag_value = "true",
+       .default_text = "off",
+       .help = "draw figures into DIR/figures (PNG and PDF) with tools/plot_solve.py or tools/plot_compare.py"});
   row({.option = "--keep-steps", .commands = kCompare | kStudy, .kind = Kind::Boolean, .flag_value = "true",
        .default_text = "off",
        .help = "keep each run's steps.csv (otherwise only summary.json, trajectory.csv and events.csv stay; "

@@ -87,7 +87,7 @@ def test_every_cli_scene_option_is_a_keyword():
     code, out, _ = run_cli("solve", "--help")
     assert code == 0
     cli_options = set(re.findall(r"^\s+(?:-h, )?--([a-z][a-z-]+)", out, re.M))
-    own = {"out", "quiet", "help"}  # the command's own: out= and record= in Python
+    own = {"out", "quiet", "help", "plot"}  # the command's own: out= and record= in Python; figures: CLI only
     assert {o.replace("-", "_") for o in cli_options - own} == set(rigidae.OPTIONS)
     doc = rigidae.solve.__doc__
     for name in rigidae.OPTIONS:
