@@ -23,7 +23,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-import workprecision  # noqa: E402  (bench/, beside this file)
+import ode_table  # noqa: E402  (bench/, beside this file)
+import workprecision  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TARGETS = (1e-3, 1e-6, 1e-9)
@@ -425,6 +426,9 @@ def issue13_part(ode, peers, rigidae, callgrind, jac, figs, figs_rel):
           "per step where both were counted, `bench/results/callgrind.jsonl` and `callgrind_ode.jsonl`; "
           "else wall time per step, which the machine's load inflates for runs longer than a "
           "scheduler slice).\n\n", workprecision.targets_table(rows)]
+    ode_path = os.path.join(ROOT, "bench", "results", "ode.jsonl")
+    md.append(ode_table.markdown([ode_path, os.path.join(ROOT, "bench", "peers", "results.jsonl")],
+                                 heading="### {scene}: every method's fastest setting to each error (`bench/ode_table.py`)"))
     by = {(r["scene"], r["target"]): r for r in rows}
     md.append("\n### Work-precision figures (issue 13)\n")
     for scene in scenes:
