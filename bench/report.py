@@ -452,7 +452,9 @@ def issue13_part(ode, peers, rigidae, callgrind, jac, figs, figs_rel):
         ida = drawn.get("ida", [])
         md.append(f"{name} ([PDF]({figs_rel}/workprecision_{scene}.pdf)): final orientation error against wall "
                   f"time (left) and evaluations (right); drawn: IDA's {len(ida)} fastest combinations "
-                  f"({', '.join(ida)}), the ODE integrators, RKF78"
+                  f"({', '.join(ida)}" + ("; † from the full IDA sweep, `bench/results/rigidae.jsonl`, timed "
+                                             "recording every step" if any("†" in i for i in ida) else "")
+                  + "), the ODE integrators, RKF78"
                   + (" and the best two methods of each other peer" if any(f in drawn for f in workprecision.SLOW_PEERS)
                      else " (the other peers were not run on this scene)")
                   + ". " + (("; ".join(sentences) + ".")[:1].upper() + ("; ".join(sentences) + ".")[1:] if sentences else "")
