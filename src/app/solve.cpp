@@ -137,6 +137,7 @@ nlohmann::json summary(const Scene& scene, const SolveOutcome& o) {
       {"status", to_string(o.run.status)},
       {"message", o.run.message},
       {"t_reached", o.run.t_reached},
+      {"linear_solver", o.run.linear_solver.empty() ? "none" : o.run.linear_solver},  // the one Newton used
       {"wall_time_s", o.wall_seconds},
       {"initial_residual_max_abs", o.run.initial_residual},
       {"counters", counters_json(c)},

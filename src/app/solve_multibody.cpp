@@ -61,7 +61,8 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
       {"rtol", scene.solver.rtol},
       {"atol", scene.solver.atol},
       {"jacobian", scene.solver.jacobian},
-      {"linear_solver", scene.solver.linear_solver},
+      {"linear_solver", o.run.linear_solver},  // the one used ("auto" resolved by size)
+      {"linear_solver_setting", scene.solver.linear_solver},
       {"warnings", problem.warnings()},
       {"counters", counters_json(c)},
       {"maxima",

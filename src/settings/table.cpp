@@ -30,7 +30,7 @@ std::vector<std::string> coordinates_names() { return {"euler", "quaternion", "l
 std::vector<std::string> equations_names() { return {"lagrange", "euler"}; }
 std::vector<std::string> reference_names() { return {"auto", "exact", "tight"}; }
 std::vector<std::string> jacobian_names() { return {"exact", "central", "ida_dq"}; }
-std::vector<std::string> linear_solver_names() { return {"dense", "klu"}; }
+std::vector<std::string> linear_solver_names() { return {"auto", "dense", "klu"}; }
 std::vector<std::string> projection_when_names() { return {"threshold", "every_step"}; }
 std::vector<std::string> sequence_names() {
   std::vector<std::string> v{"auto"};
@@ -164,7 +164,8 @@ std::vector<Setting> make_table() {
        .get = [](const Scene& s) -> Value { return s.solver.jacobian; }});
   row({.scene_key = "solver.linear_solver", .option = "--linear-solver", .commands = kRun, .kind = Kind::Choice,
        .choices = linear_solver_names,
-       .help = "Newton's linear solver: dense LU or KLU sparse LU (not with --jacobian ida_dq)",
+       .help = "Newton's linear solver: auto (KLU from 200 unknowns on, a measured size; dense below and with "
+               "--jacobian ida_dq), dense LU or KLU sparse LU (not with --jacobian ida_dq)",
        .set = [](Scene& s, const Value& v) { s.solver.linear_solver = word(v); },
        .get = [](const Scene& s) -> Value { return s.solver.linear_solver; }});
   // Which integrator runs which schemes: solver/integrators.hpp (checked in cross_problem).

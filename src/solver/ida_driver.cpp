@@ -84,6 +84,10 @@ struct IdaSession {
     dky = sun::new_serial_vector(n, ctx);
     A = nnz > 0 ? SUNSparseMatrix(n, n, nnz, CSC_MAT, ctx) : SUNDenseMatrix(n, n, ctx);
     LS = !A ? nullptr : nnz > 0 ? SUNLinSol_KLU(y, A, ctx) : sun::new_dense_lu_solver(y, A, ctx);
+    // KLU's fill-reducing ordering: AMD on A + A^T, not SUNDIALS' default
+    // COLAMD, whose fill on the multibody saddle-point matrices grew faster
+    // than the number of bodies (docs/benchmarks.md, "N-link chain").
+    if (LS && nnz > 0) SUNLinSol_KLUSetOrdering(LS, 0);
     mem = IDACreate(ctx);
     if (!y || !yp || !id || !atol || !dky || !A || !LS || !mem) throw SolverError("out of memory creating IDA");
   }
@@ -478,15 +482,24 @@ RunResult IdaRun::finish() {
   if (differences_) result_.counters.jacobian_residual_evals += differences_->residual_evaluations();
   IDAGetLastStep(ida_.mem, &result_.counters.last_step);
   IDAGetLastOrder(ida_.mem, &result_.counters.last_order);
+  result_.linear_solver = opt_.linear_solver;
   return result_;
 }
 
 }  // namespace
 
-RunResult integrate(DaeProblem& problem, const SolverSettings& settings, const TimeGrid& time, StepSink& sink) {
-  if (settings.linear_solver == "klu" && settings.jacobian == "ida_dq")
+std::string resolve_linear_solver(const SolverSettings& settings, const DaeProblem& problem) {
+  if (settings.linear_solver != "auto") return settings.linear_solver;
+  if (settings.jacobian == "ida_dq") return "dense";
+  return problem.size() >= kKluFromUnknowns ? "klu" : "dense";
+}
+
+RunResult integrate(DaeProblem& problem, const SolverSettings& requested, const TimeGrid& time, StepSink& sink) {
+  if (requested.linear_solver == "klu" && requested.jacobian == "ida_dq")
     throw InputError("solver.linear_solver = \"klu\" needs solver.jacobian = \"exact\" or \"central\": IDA's "
                      "difference quotients fill dense and banded matrices only");
+  SolverSettings settings = requested;
+  settings.linear_solver = resolve_linear_solver(requested, problem);
   IdaRun run(problem, settings, time, sink);
   run.start();
   while (run.running()) {

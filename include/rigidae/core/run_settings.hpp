@@ -27,10 +27,11 @@ struct SolverSettings {
   // "ida_dq" (IDA's own forward difference quotients). Same steps, far fewer
   // residual evaluations with "exact" (docs/ida_settings.md).
   std::string jacobian = "exact";
-  // Linear solver for Newton's systems: "dense" (SUNDIALS' dense LU, best for
-  // the <= 30 unknowns here) or "klu" (sparse LU on the iteration
-  // matrix's structural pattern; not with "ida_dq").
-  std::string linear_solver = "dense";
+  // Linear solver for Newton's systems: "dense" (SUNDIALS' dense LU),
+  // "klu" (sparse LU on the iteration matrix's structural pattern; not with
+  // "ida_dq") or "auto" (KLU from kKluFromUnknowns unknowns on, a measured
+  // size: solver/ida_driver.hpp; single bodies have <= 30 and stay dense).
+  std::string linear_solver = "auto";
   // Integrator and explicit Runge-Kutta table (solver/integrators.hpp
   // lists the valid values and which schemes each integrator runs).
   std::string integrator = "ida";
