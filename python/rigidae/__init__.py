@@ -56,7 +56,8 @@ def _describe(o):
 
 _SOLVE_OPTIONS = [o for o in _core.scene_options("solve") if o["scene_key"]]
 #: Every scene option of solve, keyword name -> its help (from rigidae's table of settings).
-OPTIONS = {_keyword(o["option"]): _describe(o) for o in _SOLVE_OPTIONS}
+#: solve's own `record` keyword (what is kept in memory) stands where the CLI has --record.
+OPTIONS = {_keyword(o["option"]): _describe(o) for o in _SOLVE_OPTIONS if o["option"] != "--record"}
 _FLAGS = {_keyword(o["option"]) for c in ("solve", "compare") for o in _core.scene_options(c) if o["flag"]}
 
 
@@ -344,8 +345,9 @@ solve.__doc__ = f"""Integrates a scene, as `rigidae solve` does, and returns a R
     scene    a rigidae.Scene, a scene file's path, or a scene dict
     record   "steps": every IDA step (run.steps) and the output grid (run.grid);
              "grid": the output grid only; "none": neither (run.summary only)
-    out      a folder: also write steps.csv, trajectory.csv, events.csv and
-             summary.json there, as the CLI does. None (default): no files.
+    out      a folder: also write the files `rigidae solve` writes there, as
+             the scene's output.record and step_format say (default: steps.csv,
+             trajectory.csv, events.csv, summary.json). None (default): no files.
     options  the CLI's scene overrides, by the same names ('-' as '_'); flags
              take True. Checked with the CLI's messages (InputError).
 

@@ -56,6 +56,9 @@ Scene Combination::applied_to(const Scene& scene) const {
   s.formulation.coordinates = coordinates;
   s.formulation.equations = equations;
   s.formulation.scheme = scheme == kAnyScheme ? kSchemeForUnconstrained : scheme;
+  // Compare and study read trajectory.csv and (--keep-steps, --plot) steps.csv:
+  // the scene's output.record and step_format are for solve.
+  s.output = OutputSettings{};
   return s;
 }
 

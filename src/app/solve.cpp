@@ -68,6 +68,7 @@ nlohmann::json configuration_json(const Scene& s, const std::vector<SchemeParame
     std::replace(pointer.begin(), pointer.end(), '.', '/');
     j[nlohmann::json::json_pointer(pointer)] = value;
   }
+  if (!s.time.output_times.empty()) j["output"]["times"] = s.time.output_times;
   j["formulation"]["baumgarte"]["a"] = used_or_set(used, "a", s.formulation.baumgarte.a);
   j["formulation"]["baumgarte"]["b"] = used_or_set(used, "b", s.formulation.baumgarte.b);
   j["formulation"]["projection"]["threshold"] = used_or_set(used, "threshold", s.formulation.projection.threshold);

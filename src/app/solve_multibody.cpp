@@ -27,7 +27,7 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
   o.scheme = problem.scheme().name;
   o.note = fmt::format("{} bodies, {} joints, {} unknowns", problem.bodies().size(), scene.multibody->joints.size(),
                        problem.size());
-  MultibodyRecorder recorder(problem, out_dir);
+  MultibodyRecorder recorder(problem, out_dir, scene.output, scene.time);
   const auto t0 = std::chrono::steady_clock::now();
   try {
     o.run = integrate(problem, scene.solver, scene.time, recorder);
@@ -36,7 +36,7 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
     o.run.message = e.what();
   }
   o.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  recorder.flush();
+  recorder.close();
   o.extremes.steps_recorded = recorder.steps_recorded();
   o.extremes.max_drift_position = recorder.max_drift_position();
   o.extremes.max_drift_velocity = recorder.max_drift_velocity();

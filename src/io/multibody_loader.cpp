@@ -45,9 +45,9 @@ namespace {
 // The schema
 // ---------------------------------------------------------------------------
 
-constexpr std::array<std::string_view, 13> kRootKeys{
+constexpr std::array<std::string_view, 14> kRootKeys{
     "schema_version", "name",    "description", "start_tolerance", "reference", "bodies",  "joints",
-    "springs",        "loads",   "gravity",     "time",            "formulation", "solver"};
+    "springs",        "loads",   "gravity",     "time",            "output",      "formulation", "solver"};
 constexpr std::array<std::string_view, 14> kBodyKeys{
     "name",     "mass",  "inertia_principal", "inertia",    "inertia_axes", "position",         "quaternion",
     "euler",    "matrix", "axis_angle",       "velocity",   "angular_velocity", "angular_velocity_frame",
@@ -243,6 +243,7 @@ class MultibodyReader {
     read_loads(spec);
 
     read_time(r_, root_, scene);
+    read_output(r_, root_, scene);
     read_formulation(r_, root_, scene);
     read_solver(r_, root_, scene);
     check_settings_together(r_, root_, scene);

@@ -31,6 +31,8 @@ std::vector<std::string> equations_names() { return {"lagrange", "euler"}; }
 std::vector<std::string> reference_names() { return {"auto", "exact", "tight"}; }
 std::vector<std::string> jacobian_names() { return {"exact", "central", "ida_dq"}; }
 std::vector<std::string> linear_solver_names() { return {"auto", "dense", "klu"}; }
+std::vector<std::string> record_names() { return {"steps", "grid", "none"}; }
+std::vector<std::string> step_format_names() { return {"csv", "npy"}; }
 std::vector<std::string> projection_when_names() { return {"threshold", "every_step"}; }
 std::vector<std::string> sequence_names() {
   std::vector<std::string> v{"auto"};
@@ -54,6 +56,8 @@ std::string name_of(const std::array<T, N>& values, std::vector<std::string> (*n
   return names()[0];
 }
 constexpr std::array<Equations, 2> kEquations{Equations::Lagrange, Equations::Euler};
+constexpr std::array<RecordMode, 3> kRecordModes{RecordMode::Steps, RecordMode::Grid, RecordMode::None};
+constexpr std::array<StepFormat, 2> kStepFormats{StepFormat::Csv, StepFormat::Npy};
 constexpr std::array<ReferenceKind, 3> kReferences{ReferenceKind::Auto, ReferenceKind::Exact, ReferenceKind::Tight};
 
 constexpr std::string_view kRtolWhy =
@@ -203,6 +207,20 @@ std::vector<Setting> make_table() {
        .set = [](Scene& s, const Value& v) { s.time.output_step = real(v); },
        .get = [](const Scene& s) -> Value { return s.time.output_step; }});
 
+  // --- output (output.times, an array, is read by the scene loader) ---------
+  row({.scene_key = "output.record", .option = "--record", .commands = kSolve, .kind = Kind::Choice,
+       .choices = record_names,
+       .help = "what is written besides summary.json: 'steps' every step (steps.csv or .npy) and the output grid "
+               "(trajectory.csv), 'grid' the output grid only, 'none' neither (events.csv stays)",
+       .set = [](Scene& s, const Value& v) { s.output.record = pick(kRecordModes, record_names, word(v)); },
+       .get = [](const Scene& s) -> Value { return name_of(kRecordModes, record_names, s.output.record); }});
+  row({.scene_key = "output.step_format", .option = "--step-format", .commands = kSolve, .kind = Kind::Choice,
+       .choices = step_format_names,
+       .help = "format of the step file: 'csv' (steps.csv) or 'npy' (steps.npy, NumPy's binary format: a "
+               "structured array with the CSV's column names, read by numpy.load)",
+       .set = [](Scene& s, const Value& v) { s.output.step_format = pick(kStepFormats, step_format_names, word(v)); },
+       .get = [](const Scene& s) -> Value { return name_of(kStepFormats, step_format_names, s.output.step_format); }});
+
   // --- reference ----------------------------------------------------------
   row({.scene_key = "reference", .study_key = "reference", .option = "--reference", .commands = kCompare,
        .kind = Kind::Choice, .choices = reference_names,
@@ -236,6 +254,11 @@ std::vector<Setting> make_table() {
   row({.option = "--out", .commands = kSolve | kCompare | kStudy, .kind = Kind::Text, .metavar = "DIR",
        .default_text = "out/NAME-COORDINATES-EQUATIONS-SCHEME, out/NAME-compare, out/STUDY_NAME",
        .help = "output folder"});
+  row({.option = "--error-estimate", .commands = kSolve, .kind = Kind::Boolean, .flag_value = "true",
+       .default_text = "off",
+       .help = "run the scene again at rtol/100 and atol/100 (into DIR/error_estimate) and report the orientation "
+               "difference on the output grid as an estimate of the global error, beside the closed-form error "
+               "when the scene has one (needs --record steps or grid)"});
   row({.option = "--plot", .commands = kSolve | kCompare, .kind = Kind::Boolean, .flag_value = "true",
        .default_text = "off",
        .help = "draw figures into DIR/figures (PNG and PDF) with tools/plot_solve.py or tools/plot_compare.py"});

@@ -39,6 +39,10 @@ std::string to_string(RunStatus s) {
 }
 
 OutputGrid::OutputGrid(const TimeGrid& grid) : grid_(grid) {
+  if (!grid.output_times.empty()) {  // given times: exactly those
+    n_inner_ = grid.output_times.size() - 1;
+    return;
+  }
   const double span = grid.end - grid.start;
   const long n = static_cast<long>(std::floor(span / grid.output_step * (1 + 1e-12)));
   // Points start + k step for k = 0..n, less any that falls on (or within
@@ -50,6 +54,7 @@ OutputGrid::OutputGrid(const TimeGrid& grid) : grid_(grid) {
 }
 
 double OutputGrid::operator[](std::size_t k) const {
+  if (!grid_.output_times.empty()) return grid_.output_times[k];
   return k < n_inner_ ? grid_.start + static_cast<double>(k) * grid_.output_step : grid_.end;
 }
 
@@ -358,8 +363,8 @@ void IdaRun::start() {
   check(IDASetInitStep(mem, h0), "IDASetInitStep");
   if (problem_.event_count() > 0) check(IDARootInit(mem, problem_.event_count(), event_callback), "IDARootInit");
 
-  sink_.on_output(t_, y_);
-  next_out_ = 1;
+  sink_.on_output(t_, y_);  // the start, always (a recorder writes it when it is an output time)
+  next_out_ = grid_[0] <= t_ ? 1 : 0;
 }
 
 bool IdaRun::running() {

@@ -71,6 +71,7 @@ struct Scene {
   Mat3 R0_WB = Mat3::Identity();       // initial orientation, an exact rotation after loading
   Vec3 omega0_B = Vec3::Zero();        // rad/s, initial angular velocity in body components
   TimeGrid time;
+  OutputSettings output;  // what is recorded, in which format
   Formulation formulation;
   SolverSettings solver;
   ReferenceKind reference = ReferenceKind::Auto;  // for compare and study

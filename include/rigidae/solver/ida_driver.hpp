@@ -85,7 +85,8 @@ std::string resolve_linear_solver(const SolverSettings& settings, const DaeProbl
 RunResult integrate(DaeProblem& problem, const SolverSettings& settings, const TimeGrid& time, StepSink& sink);
 
 // The output grid: start, start + k step, ..., and end exactly, computed
-// point by point (a run of 1e8 output intervals must not hold them all).
+// point by point (a run of 1e8 output intervals must not hold them all); or,
+// when the TimeGrid gives output_times, exactly those times.
 class OutputGrid {
  public:
   explicit OutputGrid(const TimeGrid& grid);
