@@ -26,7 +26,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kAnyScheme = "any";
-// The scheme an Euler-angle run uses: all give it the same ODE.
+// The scheme a run without constraints (Euler angles) uses: all give it the same ODE.
 constexpr const char* kSchemeForUnconstrained = "ggl";
 
 double median(std::vector<double> v) {
@@ -64,9 +64,9 @@ Scene Combination::applied_to(const Scene& scene) const {
 
 std::vector<Combination> all_combinations() {
   std::vector<Combination> all;
-  for (Coordinates c : {Coordinates::EulerAngles, Coordinates::Quaternion, Coordinates::Linear})
+  for (const Coordinates& c : all_coordinates())
     for (Equations e : {Equations::Lagrange, Equations::Euler}) {
-      if (c == Coordinates::EulerAngles) {
+      if (!has_constraints(c)) {
         all.push_back({c, e, kAnyScheme});
         continue;
       }
@@ -164,7 +164,7 @@ std::string format_compare_table(const CompareReport& r) {
   for (const CompareRow& row : r.rows) {
     const IdaCounters& c = row.outcome.run.counters;
     const RunExtremes& x = row.outcome.extremes;
-    const bool constrained = row.combination.coordinates != Coordinates::EulerAngles;
+    const bool constrained = has_constraints(row.combination.coordinates);
     const std::string lambda =
         std::isnan(row.lambda_min) ? "-" : fmt::format("[{:.3g}, {:.3g}]", row.lambda_min, row.lambda_max);
     s += fmt::format("{:<28} {:<8} {:>8} {:>9} {:>6} {:>8.3f} {:>8} {:>8} {:>8} {:>8} {:>8} {:>21} {:>8} {:>8}\n",
@@ -231,7 +231,7 @@ void write_compare_outputs(const CompareReport& r, const std::filesystem::path& 
     for (const CompareRow& row : r.rows) {
       const IdaCounters& c = row.outcome.run.counters;
       const RunExtremes& x = row.outcome.extremes;
-      const bool constrained = row.combination.coordinates != Coordinates::EulerAngles;
+      const bool constrained = has_constraints(row.combination.coordinates);
       f << fmt::format("| {} | {} | {} | {} | {:.3f} | {} | {} | {} | {} | {} | {} | {} |\n", row.combination.name(),
                        to_string(row.outcome.run.status), c.steps, c.residual_evals + c.jacobian_residual_evals,
                        row.wall_median, constrained ? sci(x.max_drift_position) : "–",

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "rigidae/coords/representation.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/settings/settings.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
@@ -26,7 +27,6 @@ long long whole(const Value& v) { return std::get<long long>(v); }
 bool flag(const Value& v) { return std::get<bool>(v); }
 const std::string& word(const Value& v) { return std::get<std::string>(v); }
 
-std::vector<std::string> coordinates_names() { return {"euler", "quaternion", "linear"}; }
 std::vector<std::string> equations_names() { return {"lagrange", "euler"}; }
 std::vector<std::string> reference_names() { return {"auto", "exact", "tight"}; }
 std::vector<std::string> jacobian_names() { return {"exact", "central", "ida_dq"}; }
@@ -40,8 +40,6 @@ std::vector<std::string> sequence_names() {
   return v;
 }
 
-constexpr std::array<Coordinates, 3> kCoordinates{Coordinates::EulerAngles, Coordinates::Quaternion,
-                                                  Coordinates::Linear};
 template <typename T, std::size_t N>
 T pick(const std::array<T, N>& values, std::vector<std::string> (*names)(), const std::string& w) {
   const std::vector<std::string> n = names();
@@ -60,6 +58,13 @@ constexpr std::array<RecordMode, 3> kRecordModes{RecordMode::Steps, RecordMode::
 constexpr std::array<StepFormat, 2> kStepFormats{StepFormat::Csv, StepFormat::Npy};
 constexpr std::array<ReferenceKind, 3> kReferences{ReferenceKind::Auto, ReferenceKind::Exact, ReferenceKind::Tight};
 
+// The coordinates' help reads the registry's phrases; the table keeps
+// string views, so the text lives here for the program's lifetime.
+std::string_view coordinates_help_text() {
+  static const std::string text = "rotation coordinates: " + coordinates_help();
+  return text;
+}
+
 constexpr std::string_view kRtolWhy =
     "below 1e-14 round-off in double precision exceeds the tolerance and the step size collapses";
 
@@ -70,10 +75,9 @@ std::vector<Setting> make_table() {
   // --- formulation --------------------------------------------------------
   row({.scene_key = "formulation.coordinates", .option = "--coordinates", .commands = kSolve, .kind = Kind::Choice,
        .choices = coordinates_names,
-       .help = "rotation coordinates: Euler angles (3, singular charts switched during the run), unit quaternions "
-               "(4, 1 constraint) or the 9 entries of R (6 constraints)",
-       .set = [](Scene& s, const Value& v) { s.formulation.coordinates = pick(kCoordinates, coordinates_names, word(v)); },
-       .get = [](const Scene& s) -> Value { return name_of(kCoordinates, coordinates_names, s.formulation.coordinates); }});
+       .help = coordinates_help_text(),
+       .set = [](Scene& s, const Value& v) { s.formulation.coordinates = Coordinates(word(v)); },
+       .get = [](const Scene& s) -> Value { return s.formulation.coordinates.name(); }});
   row({.scene_key = "formulation.equations", .option = "--equations", .commands = kSolve, .kind = Kind::Choice,
        .choices = equations_names,
        .help = "Lagrange form (mass matrix in the coordinates) or Euler form (body angular velocity states and "

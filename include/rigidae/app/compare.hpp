@@ -19,7 +19,7 @@
 
 namespace rigidae {
 
-// Euler angles carry no constraint, so every scheme gives them the same
+// Coordinates without constraints (Euler angles) give every scheme the same
 // ODE: they appear once per equation form, with scheme "any".
 struct Combination {
   Coordinates coordinates = Coordinates::Quaternion;
@@ -31,7 +31,8 @@ struct Combination {
   Scene applied_to(const Scene& scene) const;
 };
 
-// Every applicable combination, coordinates then equations then schemes in registry order.
+// Every applicable combination: the registry's coordinates, then equations,
+// then schemes, each in registry order.
 std::vector<Combination> all_combinations();
 
 // A pattern with '/' is a glob over the whole name ("quaternion/*/ggl");
