@@ -31,7 +31,9 @@ def best(group, target):
     return min(ok, key=lambda r: r["wall_s"]) if ok else None
 
 
-def main(paths):
+def markdown(paths, heading="### {scene}"):
+    """The tables as markdown text (bench/report.py puts them into docs/benchmarks.md)."""
+    out = []
     table = {}
     for k, path in enumerate(paths):
         for r in rows(path):
@@ -40,10 +42,10 @@ def main(paths):
             key = (r["scene"], r["peer"], r["method"] + ("" if k == 0 else " (earlier run)"))
             table.setdefault(key, []).append(r)
     for scene in sorted({s for s, _, _ in table}):
-        print(f"\n### {scene}\n")
-        print("| peer | method | " + " | ".join(
-            f"wall to {t:.0e} rad (setting, steps) | x RKF78" for t in TARGETS) + " |")
-        print("|---|---|" + "---|---|" * len(TARGETS))
+        out.append("\n" + heading.format(scene=scene) + "\n\n")
+        out.append("| peer | method | " + " | ".join(
+            f"wall to {t:.0e} rad (setting, steps) | x RKF78" for t in TARGETS) + " |\n")
+        out.append("|---|---|" + "---|---|" * len(TARGETS) + "\n")
         ref = {t: best(table.get((scene, "odeint", "rkf78"), []), t) for t in TARGETS}
         entries = []
         for (s, peer, method), group in table.items():
@@ -61,7 +63,12 @@ def main(paths):
                 cells += [f"{b['wall_s'] * 1e3:.3g} ms ({b['setting']:.0e}, {b.get('steps', '?')})", f"{ratio:.2g}"]
             entries.append((sort_key, peer, method, cells))
         for _, peer, method, cells in sorted(entries):
-            print(f"| {peer} | {method} | " + " | ".join(cells) + " |")
+            out.append(f"| {peer} | {method} | " + " | ".join(cells) + " |\n")
+    return "".join(out)
+
+
+def main(paths):
+    print(markdown(paths), end="")
 
 
 if __name__ == "__main__":

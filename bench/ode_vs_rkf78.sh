@@ -11,8 +11,9 @@
 # into $PEERS_BUILD_DIR (default /tmp/rigidae-peers-build) if it is missing.
 # rigidae's wall times are unrecorded runs (integration only, a sink that
 # keeps the final state); odeint's the whole integration. Medians of N runs.
-# Output: bench/results/ode.jsonl and the table on stdout (bench/ode_table.py),
-# which docs/benchmarks.md quotes.
+# Output: bench/results/ode.jsonl and the table on stdout (bench/ode_table.py);
+# bench/report.py puts the same tables, issue 13's targets table and the
+# work-precision figures into docs/benchmarks.md.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"

@@ -3,7 +3,7 @@
 # rigidae, the bare IDA loop and the peers come from one run on one machine.
 #
 #   bash bench/run_all.sh [--jacobians K1,K2,...] [--repeats N] [--budget S]
-#                         [--no-peers] [--no-callgrind] [--no-memory]
+#                         [--no-peers] [--no-callgrind] [--no-memory] [--no-ode]
 #
 # --jacobians   Jacobian kinds to measure rigidae and the bare loop with
 #               (solver.jacobian; default exact,central). The first one is
@@ -11,6 +11,7 @@
 # --repeats N   wall times are medians of N runs (default 3)
 # --budget S    a setting is not repeated once its runs took S seconds (default 1.5)
 # --no-peers    keep bench/peers/results.jsonl from an earlier run
+# --no-ode      keep bench/results/ode.jsonl from an earlier run
 #
 # Steps (as root on Debian 12; 22 min on 2 shared cores at load ~7):
 #   1. installs what is missing (valgrind, time, the peers' packages), builds
@@ -26,8 +27,12 @@
 #   5. the bare IDA loop (index1 and ggl), same rtols -> bench/results/bare.jsonl
 #   6. callgrind instruction counts -> bench/results/callgrind.jsonl
 #   7. peak memory at ~10^4 and ~10^6 steps -> bench/results/memory.jsonl
-#   8. figures and tables: bench/report.py -> docs/figures/benchmarks_*.png and
-#      the generated part of docs/benchmarks.md
+#   8. the ODE integrators and IDA side by side with Boost.Odeint RKF78 on the
+#      heavy top, the free body and the Lagrange top (bench/ode_vs_rkf78.sh)
+#      -> bench/results/ode.jsonl
+#   9. figures and tables: bench/report.py -> docs/figures/benchmarks_*.png,
+#      docs/figures/workprecision_<scene>.{png,pdf} and the generated part of
+#      docs/benchmarks.md
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
@@ -38,6 +43,7 @@ budget=1.5
 peers=1
 callgrind=1
 memory=1
+ode=1
 while (($#)); do
   case "$1" in
     --jacobians) jacobians="$2"; shift 2 ;;
@@ -46,6 +52,7 @@ while (($#)); do
     --no-peers) peers=0; shift ;;
     --no-callgrind) callgrind=0; shift ;;
     --no-memory) memory=0; shift ;;
+    --no-ode) ode=0; shift ;;
     *) echo "run_all.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -55,7 +62,7 @@ start=$SECONDS
 step() { echo "run_all: $1 ($((SECONDS - start)) s so far)" >&2; }
 
 step "install and build"
-bash tools/install_missing.sh bench valgrind time cmake ninja-build g++ python3-matplotlib python3-numpy
+bash tools/install_missing.sh bench valgrind time cmake ninja-build g++ libboost-dev python3-matplotlib python3-numpy
 build="${RIGIDAE_BUILD_DIR:-$root/build}"
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" --target rigidae rigidae_bench bare_ida_heavy_top -j2 >/dev/null
@@ -112,6 +119,11 @@ fi
 if ((memory)); then
   step "peak memory"
   bash bench/memory.sh "$build" --jacobian "${kinds[0]}" >"$results/memory.jsonl"
+fi
+
+if ((ode)); then
+  step "ODE integrators against RKF78"
+  bash bench/ode_vs_rkf78.sh "$build" --repeats "$repeats" --budget "$budget" >/dev/null
 fi
 
 step "figures and tables"

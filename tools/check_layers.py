@@ -27,7 +27,7 @@ ALLOWED = {
     "dae": {"core", "so3", "model", "coords", "schemes", "solver"},
     "multibody": {"core", "so3", "model", "coords", "schemes", "solver"},
     "record": {"core", "so3", "model", "coords", "schemes", "dae", "multibody", "solver", "io"},
-    "settings": {"core", "so3", "model", "schemes", "solver"},
+    "settings": {"core", "so3", "model", "coords", "schemes", "solver"},
     "io": {"core", "so3", "model", "exact", "schemes", "settings"},
     "app": {"core", "so3", "model", "exact", "coords", "schemes", "solver", "dae", "multibody", "record", "io",
             "settings"},

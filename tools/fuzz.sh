@@ -4,7 +4,9 @@
 # with ASan + UBSan and coverage instrumentation in ./build-fuzz, and runs on a
 # seed corpus of problems/*.toml, tests/bad_scenes/ and tests/fuzz_regressions/.
 #
-# Usage: bash tools/fuzz.sh [SECONDS] [LIBFUZZER OPTION...]
+# Usage: bash tools/fuzz.sh [--study] [SECONDS] [LIBFUZZER OPTION...]
+#   --study   fuzz the study-file loader and planner (fuzz/fuzz_study_loader.cpp)
+#             instead, seeded with studies/ and tests/bad_studies/
 #   SECONDS   total run time (default 300)
 #   e.g.      bash tools/fuzz.sh 600 -jobs=2 -workers=2
 # The growing corpus is kept in build-fuzz/corpus (reused by the next run);
@@ -14,6 +16,13 @@
 # docs/robustness.md): the test suite loads every file there.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+target=fuzz_scene_loader
+dict=fuzz/scene.dict
+if [ "${1:-}" = "--study" ]; then
+  target=fuzz_study_loader
+  dict=fuzz/study.dict
+  shift
+fi
 seconds=${1:-300}
 shift || true
 
@@ -24,11 +33,16 @@ bash tools/install_missing.sh fuzz "${packages[@]}"
 
 build=${RIGIDAE_FUZZ_BUILD:-build-fuzz}
 CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRIGIDAE_FUZZ=ON >/dev/null
-cmake --build "$build" --target fuzz_scene_loader -j"$(nproc)"
+cmake --build "$build" --target "$target" -j"$(nproc)"
 
-mkdir -p "$build/corpus" "$build/findings"
+corpus="$build/corpus"
 seeds=(problems tests/bad_scenes)
 [ -d tests/fuzz_regressions ] && seeds+=(tests/fuzz_regressions)
-exec "$build/fuzz_scene_loader" "$build/corpus" "${seeds[@]}" \
-  -dict=fuzz/scene.dict -max_total_time="$seconds" -max_len=8192 -timeout=10 -rss_limit_mb=2048 \
+if [ "$target" = fuzz_study_loader ]; then
+  corpus="$build/corpus_study"
+  seeds=(studies)
+fi
+mkdir -p "$corpus" "$build/findings"
+exec "$build/$target" "$corpus" "${seeds[@]}" \
+  -dict="$dict" -max_total_time="$seconds" -max_len=8192 -timeout=10 -rss_limit_mb=2048 \
   -artifact_prefix="$build/findings/" -print_final_stats=1 "$@"

@@ -3,43 +3,59 @@
 each coordinate representation and equation form.
 
 Usage:
-    /usr/bin/python3 tools/plot_compare.py DIR [--out FIGDIR] [--bins N] [--quiet]
+    /usr/bin/python3 tools/plot_compare.py DIR [--out FIGDIR] [--bins N] [--axis auto|x|y|z] [--quiet]
 
-DIR is the folder written by `rigidae compare SCENE --out DIR`. Every subfolder
-of DIR holding a summary.json is one run; `reference/` is the reference run,
-drawn (black dotted) only in the panel of its own representation. compare.csv
-is used, if present, only for the scene name. The figures go to DIR/figures/
-(or FIGDIR) and their paths are printed. Panels are always laid out with one
+DIR is the folder written by `rigidae compare SCENE --out DIR` (`--plot` calls
+this script). Every subfolder of DIR holding a summary.json is one run;
+`reference/` is a tight reference run, drawn (black dotted) only in the panel
+of its own representation; DIR/reference.csv (or reference/trajectory.csv) is
+the reference on the output grid; compare.csv gives the scene name, the
+schemes and the errors at the end. The figures go to DIR/figures/ (or FIGDIR),
+each as PNG and PDF, and their paths are printed. Panels are laid out with one
 row per coordinates (euler, quaternion, linear) and one column per equation
-form (lagrange, euler); one line per scheme:
+form (lagrange, euler), with shared axes; one line per scheme:
 
+  error.png           angle between each run's orientation and the reference at
+                      every output time (trajectory.csv), log axis.
   drift_position.png  |Phi(q)| at every IDA step against t, log axis, one panel
                       per constrained representation (2 x 2).
   drift_velocity.png  the same for the velocity level |dPhi/dt| (1/s).
   multipliers.png     the Euclidean norm of the lambda_* columns (generalized
                       constraint force, J) and of the mu_* columns (kinematic
-                      multiplier, 1/s); columns: lagrange-lambda, lagrange-mu,
-                      euler-mu (whichever exist). A column is drawn on a log
-                      axis when its values span more than two decades,
-                      otherwise on a linear one.
-  energy_error.png    |relative energy error| against t, log axis, all six
-                      representations (3 x 2), Euler-angle chart switches
-                      (events.csv) as ticks on the time axis.
-  summary.png         per run: max |Phi| and max |energy error| (summary.json)
-                      against IDA steps; colour: scheme, marker: coordinates,
-                      filled/open: lagrange/euler form.
+                      multiplier, 1/s) on log axes, so that a start spike does
+                      not flatten the rest; columns: lagrange-lambda,
+                      lagrange-mu, euler-mu (whichever exist).
+  energy_error.png    |relative energy error| against t, log axis, Euler-angle
+                      chart switches (events.csv) as ticks on the time axis.
+  momentum_error.png  |relative error of the vertical angular momentum|.
+  step_size.png       IDA's step size h (geometric mean per time bin), log axis.
+  order.png           IDA's BDF order (mean per time bin).
+  axis_trace.png      a body axis (--axis; default the symmetry axis, the
+                      principal axis about the pivot whose moment stands apart)
+                      in space on the unit sphere, with the reference's.
+  summary.png         per run: error at the end (compare.csv), max |Phi| and
+                      max |energy error| (summary.json) against IDA steps;
+                      colour: scheme, marker: coordinates, filled/open:
+                      lagrange/euler form.
+  identical_runs.json the runs drawn once because another run is the same
+                      computation (tools/identical_runs.py: equal step
+                      histories bit for bit, or equal until a time); the
+                      panels name them ("index3 = ggl", "projection = index1
+                      until t = ...").
 
 Each known scheme has a fixed colour and line style (ggl, index1, index2,
 index3, baumgarte, projection; others get the next free style), so that the
 figures of different compare folders are comparable. The Euler-angle
-coordinates have no constraints: they appear in energy_error.png and
-summary.png only. A failed or interrupted run is drawn as far as its steps.csv
-goes (a half-written last line is skipped), ends in an X marker, and its panel
-says in red where and why it stopped. Long runs are decimated per time bin
-(--bins): the largest value per bin on log axes, the smallest and largest on
-linear ones, so isolated spikes stay visible. A log axis starts a little under
-the 0.5th percentile of its positive values (never under 1e-17); smaller
-values and exact zeros are drawn on the bottom edge, as the subtitle says.
+coordinates have no constraints: they are left out of the drift and
+multiplier figures. A failed or interrupted run is drawn as far as its
+steps.csv goes (a half-written last line is skipped), ends in an X marker, and
+its panel says in red where and why it stopped. Long runs are decimated per
+time bin (--bins): the largest value per bin on log axes, the smallest and
+largest on linear ones, so isolated spikes stay visible. A log axis starts a
+little under the 0.5th percentile of its positive values (never under 1e-17);
+smaller values and exact zeros are drawn on the bottom edge, as the subtitle
+says. Step figures need steps.csv: compare keeps it with --plot or
+--keep-steps.
 
 Exit codes: 0 figures written, 2 DIR is not a compare folder (no run folders)
 or a bad command line. Needs numpy and matplotlib (Debian's /usr/bin/python3).
@@ -62,12 +78,17 @@ import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker as mticker  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import identical_runs  # noqa: E402  (tools/, beside this script)
+
+QUATERNION = ("qw", "qx", "qy", "qz")
 FLOOR = 1e-17  # log axes never reach below this (zeros and underflow are drawn at the axis bottom)
 DPI = 120
 
 COORD_ORDER = ["euler", "quaternion", "linear"]
 EQ_ORDER = ["lagrange", "euler"]
 SCHEME_STYLE = {  # fixed across figures and compare folders
+    "any": ("#444444", "-"),  # Euler angles: no constraint, one run per form
     "ggl": ("#1f77b4", "-"),
     "index1": ("#ff7f0e", (0, (5, 2))),
     "index2": ("#2ca02c", (0, (6, 2, 1, 2))),
@@ -87,6 +108,10 @@ QUANTITY = {  # key -> (y label, short description)
     "energy_rel_error": ("|H − H₀| / |H₀|  (dimensionless)", "relative energy error"),
     "lambda": ("‖λ‖  (J)", "force multipliers λ (generalized constraint force)"),
     "mu": ("‖μ‖  (1/s)", "kinematic multipliers μ"),
+    "vertical_momentum_rel_error": ("|L_z − L_z0| / |L₀|  (dimensionless)", "relative error of the vertical angular momentum"),
+    "error": ("angle to reference  (rad)", "orientation error against time"),
+    "h": ("step size h  (s)", "step size"),
+    "order": ("BDF order", "order"),
 }
 
 
@@ -180,7 +205,8 @@ def read_steps(path):
         return {}
     names = [h.strip() for h in header.strip().split(",")] if header.strip() else []
     want = [i for i, n in enumerate(names)
-            if n in ("t", "drift_position", "drift_velocity", "energy_rel_error")
+            if n in ("t", "h", "order", "drift_position", "drift_velocity", "energy_rel_error",
+                     "vertical_momentum_rel_error")
             or n.startswith("lambda_") or n.startswith("mu_")]
     if not names or names[0] != "t" or not want:
         return {}
@@ -229,6 +255,13 @@ def decimate(t, y, nbins, mode):
     b = np.minimum(((t - t[0]) * (nbins / (t[-1] - t[0]))).astype(np.int64), nbins - 1)
     starts = np.flatnonzero(np.r_[True, b[1:] != b[:-1]])
     lengths = np.diff(np.r_[starts, n])
+    if mode == "mean":  # one point per bin: the bin's mean value at the bin's mean time
+        return np.add.reduceat(t, starts) / lengths, np.add.reduceat(y, starts) / lengths
+    if mode == "gmean":  # the geometric mean (positive data on log axes: the typical step size)
+        return np.add.reduceat(t, starts) / lengths, np.exp(np.add.reduceat(np.log(y), starts) / lengths)
+    if mode == "min":  # the smallest value per bin (e.g. the step size: where the solver struggles)
+        tt, yy = decimate(t, -y, nbins, "max")
+        return tt, -yy
     idx = np.arange(n)
     yy = np.where(np.isnan(y), -np.inf, y)
     hi = np.repeat(np.maximum.reduceat(yy, starts), lengths)
@@ -242,12 +275,82 @@ def decimate(t, y, nbins, mode):
     return t[keep], y[keep]
 
 
+def read_grid(path):
+    """t, qw..qz, omega_* of a trajectory.csv or reference.csv: dict of arrays (None if unreadable)."""
+    cols = identical_runs._read_numeric(path, ("t",) + QUATERNION + ("omega_x", "omega_y", "omega_z"))
+    if not cols or any(c not in cols for c in ("t",) + QUATERNION):
+        return None
+    return cols
+
+
+def read_reference(root):
+    """The reference on the output grid: DIR/reference.csv (written by compare and solve --plot),
+    else a tight reference run's DIR/reference/trajectory.csv; (grid, path) or (None, None)."""
+    for rel in ("reference.csv", os.path.join("reference", "trajectory.csv")):
+        g = read_grid(os.path.join(root, rel))
+        if g is not None and g["t"].size:
+            return g, rel
+    return None, None
+
+
+def quaternion_angle(p, r):
+    """Rotation angle (rad) of r^-1 p for arrays of unit quaternions (N x 4, scalar first), accurate
+    for small angles (from the vector part, not from acos of the dot product)."""
+    pw, pv, rw, rv = p[:, 0], p[:, 1:], r[:, 0], r[:, 1:]
+    w = rw * pw + np.sum(rv * pv, axis=1)
+    v = rw[:, None] * pv - pw[:, None] * rv - np.cross(rv, pv)
+    return 2.0 * np.arctan2(np.linalg.norm(v, axis=1), np.abs(w))
+
+
+def quaternion_matrix(q):
+    """Rotation matrices (N x 3 x 3) of unit quaternions (N x 4, scalar first)."""
+    q = q / np.linalg.norm(q, axis=1)[:, None]
+    w, x, y, z = q.T
+    return np.stack([np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
+                     np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
+                     np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1)], 1)
+
+
+def grid_error(grid, ref):
+    """(t, angle to the reference) on the grid points both share (same times to 1e-9 relative)."""
+    n = min(grid["t"].size, ref["t"].size)
+    t, tr = grid["t"][:n], ref["t"][:n]
+    ok = np.abs(t - tr) <= 1e-9 * np.maximum(1.0, np.abs(tr))
+    n = int(np.argmin(ok)) if not ok.all() else n  # stop at the first point that is not shared
+    q = np.stack([grid[c][:n] for c in QUATERNION], 1)
+    qr = np.stack([ref[c][:n] for c in QUATERNION], 1)
+    return t[:n], quaternion_angle(q, qr)
+
+
+def body_axis_trace(grid, axis_B, npoints):
+    """The body axis axis_B (unit, body frame) in space, R_WB axis_B, at up to npoints grid points."""
+    q = np.stack([grid[c] for c in QUATERNION], 1)
+    if q.shape[0] > npoints:
+        q = q[np.unique(np.linspace(0, q.shape[0] - 1, npoints).astype(int))]
+    return quaternion_matrix(q) @ np.asarray(axis_B, dtype=float)
+
+
+def smooth_bins(nbins):
+    """Bins for the averaged series (step size, order)."""
+    return max(10, nbins // 5)
+
+
 def load_series(args):
-    """Worker: read one run's steps.csv and return its decimated series (small arrays only)."""
-    folder, nbins = args
+    """Worker: read one run's steps.csv and trajectory.csv and return decimated series (small arrays only)."""
+    folder, nbins, ref, axis_B = args
     cols = read_steps(os.path.join(folder, "steps.csv"))
     out = {"n_rows": 0, "series": {}, "stats": {}, "last": {}, "columns": sorted(cols),
            "chart_switches": read_events(os.path.join(folder, "events.csv"))}
+    grid = read_grid(os.path.join(folder, "trajectory.csv"))
+    if grid is not None and grid["t"].size:
+        if axis_B is not None:
+            out["axis_trace"] = body_axis_trace(grid, axis_B, 4 * nbins)
+        if ref is not None:
+            te, e = grid_error(grid, ref)
+            if te.size:
+                out["series"]["error"] = {"max": decimate(te, e, nbins, "max")}
+                out["stats"]["error"] = {"max": float(np.nanmax(e)), "p1_pos": float("nan")}
+                out["last"]["error"] = (float(te[-1]), float(e[-1]))
     if not cols or "t" not in cols:
         return out
     t = cols["t"]
@@ -259,9 +362,12 @@ def load_series(args):
         t = t[order]
         cols = {k: v[order] for k, v in cols.items()}
     derived = {}
-    for key in ("drift_position", "drift_velocity", "energy_rel_error"):
+    for key in ("drift_position", "drift_velocity", "energy_rel_error", "vertical_momentum_rel_error"):
         if key in cols:
             derived[key] = np.abs(cols[key])
+    for key in ("h", "order"):
+        if key in cols:
+            derived[key] = cols[key]
     for kind in ("lambda", "mu"):
         names = [k for k in cols if k.startswith(kind + "_")]
         if names:
@@ -273,8 +379,11 @@ def load_series(args):
             "max": float(finite.max()) if finite.size else float("nan"),
             "p1_pos": float(np.percentile(pos, 1)) if pos.size else float("nan"),
         }
-        modes = ("max", "minmax") if key in ("lambda", "mu") else ("max",)
-        out["series"][key] = {m: decimate(t, y, nbins, m) for m in modes}
+        modes = {"lambda": ("max", "minmax"), "mu": ("max", "minmax"), "h": ("min", "gmean"), "order": ("mean",)}.get(
+            key, ("max",))
+        # averages (step size, order) over coarser bins: a typical value, not every step's jitter
+        out["series"][key] = {m: decimate(t, y, smooth_bins(nbins) if m in ("gmean", "mean") else nbins, m)
+                              for m in modes}
         out["last"][key] = (float(t[-1]), float(y[-1]))
     out["t_last"] = float(t[-1])
     return out
@@ -331,6 +440,11 @@ class Run:
         return n if n is not None else (self.data or {}).get("n_rows")
 
     def maximum(self, key):
+        if key == "error_final_rad":  # compare.csv's error at the end (rad) against the reference
+            try:
+                return float((getattr(self, "table", None) or {}).get(key, "nan"))
+            except ValueError:
+                return None
         v = (self.summary.get("maxima") or {}).get({"energy_rel_error": "abs_energy_rel_error"}.get(key, key))
         if v is None and self.data and key in self.data["stats"]:
             v = self.data["stats"][key]["max"]
@@ -348,8 +462,39 @@ def discover(root):
     return runs
 
 
-def load_all(runs, nbins):
-    jobs = [(r.folder, nbins) for r in runs]
+def symmetry_axis(summary, choice="auto"):
+    """The body axis to trace on the unit sphere (unit vector, body frame), and its name.
+    choice x|y|z: that body axis. auto: the principal axis, about the reference point (the pivot of
+    a top, else the centre of mass), whose moment is farthest from the other two: the symmetry axis
+    of a symmetric body (the figure axis of a top)."""
+    if choice in ("x", "y", "z"):
+        return np.eye(3)["xyz".index(choice)], f"body {choice} axis"
+    conf = summary.get("configuration") or {}
+    body = conf.get("body") or {}
+    try:
+        J = np.array(body["inertia_com_kg_m2"], dtype=float).reshape(3, 3)
+        m = float(body.get("mass_kg", 0.0))
+        c = np.array(body.get("center_of_mass_m", [0, 0, 0]), dtype=float)
+    except (KeyError, TypeError, ValueError):
+        return np.array([0.0, 0.0, 1.0]), "body z axis"
+    if conf.get("support") == "fixed_point":  # parallel axes: inertia about the pivot
+        J = J + m * (c @ c * np.eye(3) - np.outer(c, c))
+    vals, vecs = np.linalg.eigh(J)
+    gaps = [min(abs(vals[k] - vals[j]) for j in range(3) if j != k) for k in range(3)]
+    k = int(np.argmax(gaps))
+    a = vecs[:, k] * (1.0 if vecs[np.argmax(np.abs(vecs[:, k])), k] > 0 else -1.0)
+    names = {0: "x", 1: "y", 2: "z"}
+    j = int(np.argmax(np.abs(a)))
+    name = f"body {names[j]} axis" if abs(abs(a[j]) - 1) < 1e-12 else "principal axis " + fmt_vec(a)
+    return a, f"{name} (symmetry axis)" if sorted(gaps)[0] < 1e-9 * max(1.0, vals.max()) else name
+
+
+def fmt_vec(v):
+    return "(" + ", ".join(fmt_num(x) for x in v) + ")"
+
+
+def load_all(runs, nbins, ref=None, axis_B=None):
+    jobs = [(r.folder, nbins, ref, axis_B) for r in runs]
     results = None
     workers = min(len(jobs), os.cpu_count() or 1)
     if workers > 1:
@@ -381,6 +526,16 @@ def scene_name(root, runs):
     return names[0] if names else os.path.basename(os.path.abspath(root))
 
 
+def read_compare_table(root):
+    """compare.csv rows by run folder name ({} without the file)."""
+    try:
+        with open(os.path.join(root, "compare.csv"), newline="") as f:
+            rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    except (OSError, csv.Error):
+        return {}
+    return {row.get("run_dir") or "": row for row in rows}
+
+
 def tolerance_text(runs):
     def one(key):
         vals = sorted({r.solver.get(key) for r in runs if r.solver.get(key) is not None})
@@ -409,6 +564,11 @@ class Context:
     def __init__(self, root, runs, outdir, nbins):
         self.root, self.outdir, self.nbins = root, outdir, nbins
         self.runs = [r for r in runs if not r.is_reference]
+        table = read_compare_table(root)
+        for r in self.runs:
+            r.table = table.get(r.name)
+            if r.table and r.table.get("scheme"):  # "any" for Euler angles (summary.json has the default)
+                r.scheme = r.table["scheme"]
         refs = [r for r in runs if r.is_reference]
         self.ref = refs[0] if refs else None
         self.styles = Styles({r.scheme for r in self.runs})
@@ -425,6 +585,38 @@ class Context:
             self.t1 = self.t0 + 1.0
         self.constrained = [c for c in self.coords if self.has_constraints(c)]
         self.n_failed = sum(r.failed for r in self.runs)
+        self.ref_grid, self.ref_source, self.axis_name, self.ref_trace = None, None, None, None
+        # Identical runs (identical_runs.py): drawn once, the others say "same as".
+        order = sorted(self.runs, key=lambda r: (r.coords, r.eqs, order_key(self.styles.order)(r.scheme), r.name))
+        same = identical_runs.find_identical([(r.name, r.folder, (r.coords, r.eqs)) for r in order])
+        by_name = {r.name: r for r in self.runs}
+        for r in self.runs:
+            rel = same.get(r.name)
+            r.same_as = by_name[rel["same_as"]] if rel else None
+            r.same_until = rel["until"] if rel else None
+            r.same_basis = rel["basis"] if rel else None
+
+    def identical_pairs(self):
+        """[{run, same_as, until, basis}] with combination names, for identical_runs.json and the tests."""
+        return [{"run": f"{r.rep}/{r.scheme}", "same_as": f"{r.same_as.rep}/{r.same_as.scheme}",
+                 "until": r.same_until, "basis": r.same_basis} for r in self.runs if r.same_as is not None]
+
+    def drawn_runs_of(self, coords, eqs):
+        """The runs of one panel without those identical to another (drawn once)."""
+        return [r for r in self.runs_of(coords, eqs) if r.same_as is None or r.same_until is not None]
+
+    def same_notes(self, coords, eqs):
+        """Grey panel notes: "index3 = ggl (identical steps)", "projection = index1 until t = ..."."""
+        notes = []
+        for r in self.runs_of(coords, eqs):
+            if r.same_as is None:
+                continue
+            if r.same_until is None:
+                what = "steps" if r.same_basis == "steps.csv" else "output and counters"
+                notes.append(f"{r.scheme} = {r.same_as.scheme} (identical {what}; drawn once)")
+            else:
+                notes.append(f"{r.scheme} = {r.same_as.scheme} until t = {fmt_num(r.same_until)} s")
+        return notes
 
     def has_constraints(self, coords):
         for r in self.runs:
@@ -452,10 +644,10 @@ class Context:
         return f"{self.tol}; {n} runs{failed}{ref}" + (f"\n{extra}" if extra else "")
 
 
-def new_figure(nrows, ncols, panel_w=6.0, panel_h=3.3, sharex=True, sharey=False):
+def new_figure(nrows, ncols, panel_w=6.0, panel_h=3.3, sharex=True, sharey=False, subplot_kw=None):
     """A grid of panels of a fixed size in inches; finish_figure sizes the margins around them."""
     fig, axes = plt.subplots(nrows, ncols, figsize=(panel_w * ncols + 2, panel_h * nrows + 2),
-                             squeeze=False, sharex=sharex, sharey=sharey)
+                             squeeze=False, sharex=sharex, sharey=sharey, subplot_kw=subplot_kw)
     fig.rigidae_layout = dict(axes=axes, panel_w=panel_w, panel_h=panel_h, sharey=sharey)
     return fig, axes
 
@@ -504,9 +696,15 @@ def finish_figure(fig, title, subtitle, handles, path):
     if handles:
         fig.legend(handles=handles, loc="lower center", ncol=ncol, fontsize=10, frameon=False,
                    bbox_to_anchor=(0.5, 0.04 / fig_h), handlelength=3.0, columnspacing=1.8)
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
+    save(fig, path)
     return path
+
+
+def save(fig, path):
+    """PNG for the screen and PDF (vector) beside it for a paper."""
+    fig.savefig(path, dpi=DPI)
+    fig.savefig(os.path.splitext(path)[0] + ".pdf")
+    plt.close(fig)
 
 
 def legend_handles(ctx, schemes, with_ref=False, with_fail=False, with_switch=False):
@@ -544,14 +742,16 @@ def style_axis(ax, ylabel, log, ctx, show_xlabel):
     ax.tick_params(labelsize=9.5, labelbottom=True)
 
 
-def panel_title(ax, label, notes):
-    """Bold panel label; the failure notes (red, small) between it and the axes."""
+def panel_title(ax, label, notes, infos=()):
+    """Bold panel label; the failure notes (red, small) and the identical-run notes (grey)
+    between it and the axes."""
     size = 9
-    if notes:
-        ax.annotate("\n".join(notes), xy=(0, 1), xycoords="axes fraction", xytext=(0, 3),
-                    textcoords="offset points", ha="left", va="bottom", fontsize=size, color="#b00000")
-    pad = 6 + (len(notes) * size * 1.25 if notes else 0)
-    ax.rigidae_notes = len(notes)
+    lines = [(n, "#b00000") for n in notes] + [(n, "0.35") for n in infos]
+    for k, (text, color) in enumerate(reversed(lines)):
+        ax.annotate(text, xy=(0, 1), xycoords="axes fraction", xytext=(0, 3 + k * size * 1.25),
+                    textcoords="offset points", ha="left", va="bottom", fontsize=size, color=color)
+    pad = 6 + len(lines) * size * 1.25
+    ax.rigidae_notes = len(lines)
     ax.set_title(label, fontsize=12, fontweight="bold", loc="left", pad=pad)
 
 
@@ -624,38 +824,43 @@ def failure_notes(runs):
     return [f"{r.scheme}: {r.status_note()}" for r in runs if r.failed]
 
 
-def plot_per_representation(ctx, key, coords_list, filename, title, chart_switches=False):
-    """Log axis; panels: rows = coordinates, columns = equation forms; one line per scheme."""
+def plot_per_representation(ctx, key, coords_list, filename, title, chart_switches=False, log=True, mode="max",
+                            ylabel=None, note=None):
+    """Panels: rows = coordinates, columns = equation forms (shared axes); one line per scheme;
+    a run identical to another is drawn once and named in the panel."""
     coords_list = list(coords_list)
-    if not coords_list:
+    if not coords_list or not any(series(r, key, mode) is not None for r in ctx.runs if r.coords in coords_list):
         return None
     fig, axes = new_figure(len(coords_list), len(ctx.eqs), sharey=True)
-    ref = ctx.ref if ctx.ref is not None and ctx.ref.coords in coords_list else None
-    arrays = [series(r, key)[1] for r in ctx.runs + ([ref] if ref else [])
-              if r.coords in coords_list and series(r, key) is not None]
-    bottom, top, clipped = log_range(arrays)
+    ref = ctx.ref if ctx.ref is not None and ctx.ref.coords in coords_list and key != "error" else None
+    arrays = [series(r, key, mode)[1] for r in ctx.runs + ([ref] if ref else [])
+              if r.coords in coords_list and series(r, key, mode) is not None]
+    bottom, top, clipped = log_range(arrays) if log else (None, None, False)
     schemes, any_fail, ref_drawn, any_switch = set(), False, False, False
     for i, c in enumerate(coords_list):
         for j, e in enumerate(ctx.eqs):
             ax = axes[i, j]
-            runs = ctx.runs_of(c, e)
+            runs = ctx.drawn_runs_of(c, e)
             drawn = 0
             for r in runs:
-                if draw_line(ax, r, key, "max", ctx.styles.kw(r.scheme), bottom):
+                if draw_line(ax, r, key, mode, ctx.styles.kw(r.scheme), bottom):
                     drawn += 1
                     schemes.add(r.scheme)
             if ref is not None and ref.coords == c and ref.eqs == e:
-                ref_drawn |= draw_line(ax, ref, key, "max", REF_STYLE, bottom)
+                ref_drawn |= draw_line(ax, ref, key, mode, REF_STYLE, bottom)
             if chart_switches:
                 any_switch |= draw_chart_switches(ax, runs, ctx)
             if not drawn:
-                empty_panel(ax, "no runs" if not runs else "no steps recorded")
-            notes = failure_notes(runs)
+                empty_panel(ax, "no runs" if not ctx.runs_of(c, e) else "no steps recorded")
+            notes = failure_notes(ctx.runs_of(c, e))
             any_fail |= bool(notes)
-            panel_title(ax, f"{c} / {e}", notes)
-            style_axis(ax, QUANTITY[key][0] if j == 0 else None, True, ctx, i == len(coords_list) - 1)
-            ax.set_ylim(bottom, top)
-    note = f"largest value per time bin ({ctx.nbins} bins)"
+            panel_title(ax, f"{c} / {e}", notes, ctx.same_notes(c, e))
+            style_axis(ax, (ylabel or QUANTITY[key][0]) if j == 0 else None, log, ctx, i == len(coords_list) - 1)
+            if log:
+                ax.set_ylim(bottom, top)
+    if note is None:
+        note = {"max": "largest value", "min": "smallest value", "mean": "mean", "gmean": "geometric mean"}[mode] + \
+            f" per time bin ({ctx.nbins} bins)"
     if clipped:
         note += "; " + clip_note(bottom)
     omitted = [c for c in ctx.coords if c not in coords_list]
@@ -678,17 +883,18 @@ def plot_multipliers(ctx):
     fig, axes = new_figure(len(ctx.constrained), len(columns), panel_w=5.4)
     schemes, any_fail, ref_drawn, any_clipped = set(), False, False, False
     for j, (e, kind) in enumerate(columns):
-        # one scale per column (same kind and form): log if the values span more than two decades
+        # one scale per column (same kind and form), logarithmic whenever there is a positive value:
+        # the start spike of index-3 multipliers (1e5 J) must not flatten the others
         stats = [r.data["stats"][kind] for c in ctx.constrained for r in ctx.runs_of(c, e)
                  if series(r, kind) is not None]
         hi = max((s["max"] for s in stats if np.isfinite(s["max"])), default=float("nan"))
         lo = min((s["p1_pos"] for s in stats if np.isfinite(s["p1_pos"])), default=float("nan"))
-        log = bool(np.isfinite(hi) and hi > 0 and (not np.isfinite(lo) or hi / lo > 100))
+        log = bool(np.isfinite(hi) and hi > 0)
         mode = "max" if log else "minmax"
         symbol = "λ" if kind == "lambda" else "μ"
         for i, c in enumerate(ctx.constrained):
             ax = axes[i, j]
-            runs = ctx.runs_of(c, e)
+            runs = ctx.drawn_runs_of(c, e)
             ref = ctx.ref if ctx.ref is not None and (ctx.ref.coords, ctx.ref.eqs) == (c, e) else None
             bottom = None
             if log:
@@ -713,7 +919,7 @@ def plot_multipliers(ctx):
                 ax.set_ylim(bottom, top)
             notes = failure_notes(runs)
             any_fail |= bool(notes)
-            panel_title(ax, f"{c} / {e}:  {symbol}", notes)
+            panel_title(ax, f"{c} / {e}:  {symbol}", notes, ctx.same_notes(c, e))
             style_axis(ax, QUANTITY[kind][0], log, ctx, i == len(ctx.constrained) - 1)
     note = ("‖λ‖, ‖μ‖: Euclidean norm over the lambda_* / mu_* columns; log axes: largest value per time bin, "
             "linear axes: smallest and largest")
@@ -741,12 +947,16 @@ def plot_summary(ctx):
     # later schemes get smaller markers, so that coinciding points (the Euler-angle
     # coordinates ignore the scheme) show as concentric rings
     size = {s: max(5.0, 14.0 - 2.2 * k) for k, s in enumerate(ctx.styles.order)}
-    panels = [("drift_position", [r for r in ctx.runs if r.coords in ctx.constrained],
+    panels = [("error_final_rad", ctx.runs, "orientation error at the end  (rad)", "error against work"),
+              ("drift_position", [r for r in ctx.runs if r.coords in ctx.constrained],
                "max |Φ(q)|  (dimensionless)", "constraint drift against work"),
               ("energy_rel_error", ctx.runs, "max |H − H₀| / |H₀|  (dimensionless)", "energy error against work")]
+    if not any(r.maximum("error_final_rad") is not None and np.isfinite(r.maximum("error_final_rad"))
+               for r in ctx.runs):
+        panels = panels[1:]  # no reference: no errors in compare.csv
     if not ctx.constrained:
-        panels = panels[1:]
-    fig, axes = new_figure(1, len(panels), panel_w=6.2, panel_h=4.4, sharex=False)
+        panels = [p for p in panels if p[0] != "drift_position"]
+    fig, axes = new_figure(1, len(panels), panel_w=5.6, panel_h=4.4, sharex=True)
     axes = axes[0]
     any_fail, clipped = False, False
     for ax, (key, runs, ylabel, title) in zip(axes, panels):
@@ -757,7 +967,8 @@ def plot_summary(ctx):
                 pts.append((r, x, y))
         ref = ctx.ref
         ref_pt = None
-        if pts and ref is not None and ref.steps() is not None and ref.maximum(key) is not None:
+        if pts and ref is not None and key != "error_final_rad" and ref.steps() is not None \
+                and ref.maximum(key) is not None:
             ref_pt = (ref.steps(), ref.maximum(key))
         bottom, top, clip = log_range([np.array([p[2] for p in pts] + ([ref_pt[1]] if ref_pt else []), dtype=float)],
                                       robust=False)
@@ -807,15 +1018,116 @@ def plot_summary(ctx):
     if any_fail:
         handles.append(Line2D([], [], marker="x", color="black", linestyle="none", markersize=11,
                               markeredgewidth=1.5, label="failed / interrupted (maxima up to the stop)"))
-    note = "maxima over the whole run (summary.json); coinciding points are drawn as concentric markers"
+    note = ("error: angle to the reference at the end (compare.csv); drift and energy: maxima over the whole run "
+            "(summary.json); coinciding points are drawn as concentric markers")
     if clipped:
         note += "; values below the axis bottom (incl. exact zeros) drawn at the bottom"
     omitted = [c for c in ctx.coords if c not in ctx.constrained]
     if omitted and ctx.constrained:
-        note += "\n" + ", ".join(omitted) + " coordinates have no constraints: left panel omits them"
+        note += "\n" + ", ".join(omitted) + " coordinates have no constraints: the drift panel omits them"
     path = os.path.join(ctx.outdir, "summary.png")
-    return finish_figure(fig, f"{ctx.scene}: accuracy against work per combination", ctx.subtitle(note),
+    return finish_figure(fig, f"{ctx.scene}: error, drift and energy error against work", ctx.subtitle(note),
                          handles, path)
+
+
+def describe_reference(root, source):
+    """E.g. "exact: Lagrange top (Jacobi elliptic nutation)" from reference.csv's units line."""
+    if source is None:
+        return "none"
+    try:
+        with open(os.path.join(root, source)) as f:
+            first = f.readline()
+    except OSError:
+        return source
+    m = re.search(r"reference: ([^,;(]*)", first)
+    return m.group(1).strip() if m else source
+
+
+def write_identical(ctx, path):
+    """identical_runs.json: which runs are drawn once because another one is the same computation."""
+    with open(path, "w") as f:
+        json.dump({"pairs": ctx.identical_pairs(),
+                   "rule": "identical: equal steps.csv (t, h, order, orientation, omega) bit for bit; until: equal "
+                           f"for the first {identical_runs.MIN_SHARED_STEPS}+ steps"}, f, indent=2)
+        f.write("\n")
+
+
+def sphere_view(xyz):
+    """(elevation, azimuth) in degrees of a view that shows a trace on the sphere: from between its
+    mean direction (the side it is on) and the normal of its best-fit plane (so that a circle, such
+    as a spinning body's transverse axis, is seen as an ellipse, not edge-on)."""
+    default = np.array([1.0, -1.0, 0.5])
+    if xyz is None or not len(xyz):
+        v = default
+    else:
+        m = np.mean(xyz, axis=0)
+        m = m / np.linalg.norm(m) if np.linalg.norm(m) > 1e-6 else default / np.linalg.norm(default)
+        n = np.linalg.svd(xyz - xyz.mean(axis=0), full_matrices=False)[2][-1]
+        v = m + (n if n @ m >= 0 else -n)
+    v = v / np.linalg.norm(v)
+    return float(np.degrees(np.arcsin(np.clip(v[2], -0.9, 0.9)))), float(np.degrees(np.arctan2(v[1], v[0])))
+
+
+def sphere_panel(ax, view=(25, -60)):
+    """A faint unit sphere (meridians every 30 degrees, parallels) with the space axes, no box."""
+    u = np.linspace(0, 2 * np.pi, 73)
+    for lat in np.radians([-60, -30, 0, 30, 60]):
+        ax.plot(np.cos(u) * np.cos(lat), np.sin(u) * np.cos(lat), np.full_like(u, np.sin(lat)),
+                color="0.85", linewidth=0.6, zorder=0)
+    v = np.linspace(-np.pi / 2, np.pi / 2, 37)
+    for lon in np.radians(range(0, 180, 30)):
+        for sgn in (1, -1):
+            ax.plot(sgn * np.cos(v) * np.cos(lon), sgn * np.cos(v) * np.sin(lon), np.sin(v),
+                    color="0.85", linewidth=0.6, zorder=0)
+    for k, name in enumerate(("x", "y", "z")):
+        tip = np.eye(3)[k] * 1.25
+        ax.plot([0, tip[0]], [0, tip[1]], [0, tip[2]], color="0.55", linewidth=0.8)
+        ax.text(*(tip * 1.06), name, color="0.35", fontsize=9, ha="center", va="center")
+    ax.set_xlim(-0.9, 0.9)
+    ax.set_ylim(-0.9, 0.9)
+    ax.set_zlim(-0.9, 0.9)
+    ax.set_box_aspect((1, 1, 1))
+    ax.view_init(elev=view[0], azim=view[1])
+    ax.set_axis_off()
+
+
+def draw_trace(ax, xyz, kw, start=False):
+    ax.plot(xyz[:, 0], xyz[:, 1], xyz[:, 2], **kw)
+    if start:
+        ax.scatter([xyz[0, 0]], [xyz[0, 1]], [xyz[0, 2]], color="black", s=18, zorder=5)
+
+
+def plot_axis_trace(ctx):
+    """The traced body axis in space on the unit sphere; panels rows = coordinates, columns = forms."""
+    if not any((r.data or {}).get("axis_trace") is not None for r in ctx.runs):
+        return None
+    fig, axes = new_figure(len(ctx.coords), len(ctx.eqs), panel_w=4.2, panel_h=4.2, sharex=False,
+                           subplot_kw={"projection": "3d"})
+    schemes, ref_drawn = set(), False
+    for i, c in enumerate(ctx.coords):
+        for j, e in enumerate(ctx.eqs):
+            ax = axes[i, j]
+            sphere_panel(ax, sphere_view(ctx.ref_trace if ctx.ref_trace is not None else next(
+                (r.data["axis_trace"] for r in ctx.runs if (r.data or {}).get("axis_trace") is not None), None)))
+            first = True
+            for r in ctx.drawn_runs_of(c, e):
+                xyz = (r.data or {}).get("axis_trace")
+                if xyz is not None and len(xyz):
+                    draw_trace(ax, xyz, ctx.styles.kw(r.scheme), start=first)
+                    schemes.add(r.scheme)
+                    first = False
+            if ctx.ref_trace is not None:
+                draw_trace(ax, ctx.ref_trace, REF_STYLE)
+                ref_drawn = True
+            panel_title(ax, f"{c} / {e}", failure_notes(ctx.runs_of(c, e)), ctx.same_notes(c, e))
+    hs = legend_handles(ctx, schemes)
+    if ref_drawn:
+        hs.append(Line2D([], [], label=f"reference ({ctx.ref_source})", **REF_STYLE))
+    hs.append(Line2D([], [], marker="o", color="black", linestyle="none", markersize=5, label="start"))
+    path = os.path.join(ctx.outdir, "axis_trace.png")
+    return finish_figure(fig, f"{ctx.scene}: the {ctx.axis_name} on the unit sphere",
+                         ctx.subtitle("R_WB a_B at the output times (trajectory.csv), space frame (z up), seen from "
+                                      "the trace's mean direction"), hs, path)
 
 
 # ----------------------------------------------------------------------------
@@ -827,6 +1139,9 @@ def main(argv=None):
     ap.add_argument("--out", help="figure folder (default: DIR/figures)")
     ap.add_argument("--bins", type=int, default=1000,
                     help="time bins per line when decimating long runs (default 1000)")
+    ap.add_argument("--axis", choices=["auto", "x", "y", "z"], default="auto",
+                    help="body axis traced on the unit sphere (default: the symmetry axis, or the principal "
+                         "axis whose moment is farthest from the others)")
     ap.add_argument("--quiet", action="store_true", help="print nothing on success")
     a = ap.parse_args(argv)
 
@@ -847,12 +1162,23 @@ def main(argv=None):
     outdir = a.out or os.path.join(root, "figures")
     os.makedirs(outdir, exist_ok=True)
 
-    load_all(runs, a.bins)
+    ref_grid, ref_source = read_reference(root)
+    first = next(r for r in runs if not r.is_reference)
+    axis_B, axis_name = symmetry_axis(first.summary, a.axis)
+    load_all(runs, a.bins, ref_grid, axis_B)
     label_multibody_quantities(runs)
     ctx = Context(root, runs, outdir, a.bins)
+    ctx.ref_grid, ctx.axis_name = ref_grid, axis_name
+    ctx.ref_source = describe_reference(root, ref_source)
+    ctx.ref_trace = body_axis_trace(ref_grid, axis_B, 4 * a.bins) if ref_grid is not None else None
     plt.rcParams.update({"font.size": 10.5, "axes.titlepad": 6})
+    write_identical(ctx, os.path.join(outdir, "identical_runs.json"))
 
     written = [
+        plot_per_representation(ctx, "error", ctx.coords, "error.png",
+                                "orientation error against time (output grid)",
+                                note=f"angle between each run's orientation and the reference "
+                                     f"({ctx.ref_source}) at every output time; largest value per time bin"),
         plot_per_representation(ctx, "drift_position", ctx.constrained, "drift_position.png",
                                 QUANTITY["drift_position"][1] + " at every IDA step"),
         plot_per_representation(ctx, "drift_velocity", ctx.constrained, "drift_velocity.png",
@@ -860,10 +1186,24 @@ def main(argv=None):
         plot_multipliers(ctx),
         plot_per_representation(ctx, "energy_rel_error", ctx.coords, "energy_error.png",
                                 QUANTITY["energy_rel_error"][1] + " at every IDA step", chart_switches=True),
+        plot_per_representation(ctx, "vertical_momentum_rel_error", ctx.coords, "momentum_error.png",
+                                QUANTITY["vertical_momentum_rel_error"][1] + " at every IDA step",
+                                chart_switches=True),
+        plot_per_representation(ctx, "h", ctx.coords, "step_size.png", "step size against time",
+                                chart_switches=True, mode="gmean",
+                                note=f"geometric mean of the steps in each of {smooth_bins(ctx.nbins)} time bins (a restart's "
+                                     f"order-1 steps pull a bin down); chart switches as ticks"),
+        plot_per_representation(ctx, "order", ctx.coords, "order.png", "BDF order against time", log=False,
+                                mode="mean",
+                                note=f"mean order of the steps in each of {smooth_bins(ctx.nbins)} time bins"),
+        plot_axis_trace(ctx),
         plot_summary(ctx),
     ]
     if not a.quiet:
-        if not ctx.constrained:
+        if not any(r.has_steps() for r in ctx.runs):
+            print("plot_compare: no run kept its steps.csv (compare keeps them with --plot or --keep-steps): "
+                  "the drift, multiplier, invariant and step figures are skipped", file=sys.stderr)
+        elif not ctx.constrained:
             print("plot_compare: no run has constraints: drift and multiplier figures skipped", file=sys.stderr)
         for p in written:
             if p:

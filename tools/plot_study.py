@@ -1,18 +1,31 @@
 #!/usr/bin/python3
-"""Work-precision figures of a rigidae study, from its results.csv.
+"""Work-precision figures of a rigidae study, from its results.csv, as small multiples.
 
-Usage: /usr/bin/python3 tools/plot_study.py STUDY_OUT_DIR [--error final|l2|max] [--quiet]
+Usage:
+    /usr/bin/python3 tools/plot_study.py STUDY_OUT_DIR [--error final|l2|max] [--figures FIGDIR]
+                                         [--prefix TEXT] [--quiet]
 
-For each scene it writes into STUDY_OUT_DIR/figures/:
-  SCENE_work_precision.png  orientation error against wall time (minimum of
-                            the repeats), log-log, one line per combination,
-                            a marker at each tolerance; Lagrange and Euler
-                            forms side by side
-  SCENE_error_vs_evals.png  the same against residual evaluations (including
-                            those spent on difference-quotient Jacobians):
-                            counts, repeatable where times are not
-Runs that failed or have no error (no reference) are left out and counted in
-the title.
+STUDY_OUT_DIR holds results.csv (`rigidae study collect` writes it; a
+committed docs/studies/NAME/ folder works too). For each scene it writes into
+FIGDIR (default STUDY_OUT_DIR/figures/), as PNG and PDF:
+
+  SCENE_work_precision  orientation error against wall time (minimum of the
+                        repeats)
+  SCENE_error_vs_evals  the same against residual evaluations, including those
+                        spent on difference-quotient Jacobians: counts,
+                        repeatable where times are not
+  SCENE_error_vs_rtol   the error against the tolerance asked for, with the
+                        line error = rtol: how far tolerance is from accuracy
+
+Panels: one row per coordinates (euler, quaternion, linear), one column per
+equation form (lagrange, euler), all with the same log axes, so that a
+scheme's line can be compared across panels by position; one line per scheme
+(the same colours and dashes as tools/plot_compare.py), a marker at each
+tolerance, the loosest tolerance labelled. Two schemes that ran the same
+computation at every tolerance (equal step, evaluation and error counts: in
+the Euler form `index3` and `ggl` are the same DAE) are drawn once and named
+in the panel ("index3 = ggl"). Runs that failed or have no error (no
+reference) are left out and counted in the subtitle.
 """
 import argparse
 import csv
@@ -20,21 +33,15 @@ import math
 import os
 import sys
 
-import matplotlib
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import plot_compare as pc  # noqa: E402  (styles, layout, saving; selects the Agg backend)
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker as mticker  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
 
-SCHEME_COLORS = {
-    "index3": "tab:red",
-    "index2": "tab:orange",
-    "index1": "tab:olive",
-    "baumgarte": "tab:purple",
-    "ggl": "tab:blue",
-    "projection": "tab:green",
-    "any": "black",
-}
-COORDINATE_STYLES = {"euler": ("-", "o"), "quaternion": ("--", "s"), "linear": (":", "^")}
+# what two runs share when they are the same computation (a study keeps no step files by default)
+FINGERPRINT = ("steps", "residual_evals", "jacobian_residual_evals", "jacobian_evals", "nonlinear_iters",
+               "error_test_fails", "nonlinear_conv_fails", "restarts", "projections", "status")
 
 
 def read_results(path):
@@ -45,76 +52,126 @@ def read_results(path):
 
 def number(text):
     try:
-        x = float(text)
+        return float(text)
     except (TypeError, ValueError):
         return math.nan
-    return x
 
 
-def draw(rows, scene, error_column, x_of, x_label, path):
-    fig, axes = plt.subplots(1, 2, figsize=(13, 5.5), sharey=True)
-    left_out = 0
-    for ax, form in zip(axes, ("lagrange", "euler")):
-        combos = sorted({r["combination"] for r in rows if r["equations"] == form})
-        for combo in combos:
-            pts = []
-            for r in rows:
-                if r["combination"] != combo:
+def identical_schemes(rows, error_column):
+    """{(coords, eqs, scheme): other scheme} for schemes whose every run (same tolerances) has the same
+    counters and the same error as an earlier scheme of the same coordinates and form."""
+    groups = {}
+    for r in rows:
+        groups.setdefault((r["coordinates"], r["equations"]), {}).setdefault(r["scheme"], {})[
+            (r["rtol"], r["atol"])] = tuple(r.get(k) for k in FINGERPRINT + (error_column,))
+    same = {}
+    for (c, e), by_scheme in groups.items():
+        order = sorted(by_scheme, key=pc.order_key(list(pc.SCHEME_STYLE)))
+        for i, s in enumerate(order):
+            for o in order[:i]:
+                if (c, e, o) not in same and by_scheme[o] == by_scheme[s] and len(by_scheme[s]) > 0:
+                    same[(c, e, s)] = o
+                    break
+    return same
+
+
+def draw(rows, scene, error_column, x_of, x_label, title, path, guide=False):
+    coords = sorted({r["coordinates"] for r in rows}, key=pc.order_key(pc.COORD_ORDER))
+    eqs = sorted({r["equations"] for r in rows}, key=pc.order_key(pc.EQ_ORDER))
+    styles = pc.Styles({r["scheme"] for r in rows})
+    same = identical_schemes(rows, error_column)
+    fig, axes = pc.new_figure(len(coords), len(eqs), panel_w=5.2, panel_h=3.4, sharex=True, sharey=True)
+    left_out, xs, ys, schemes = 0, [], [], set()
+    rtols = sorted({number(r["rtol"]) for r in rows})
+    for i, c in enumerate(coords):
+        for j, e in enumerate(eqs):
+            ax = axes[i, j]
+            infos = []
+            for s in styles.order:
+                mine = [r for r in rows if (r["coordinates"], r["equations"], r["scheme"]) == (c, e, s)]
+                if not mine:
                     continue
-                e, x = number(r[error_column]), x_of(r)
-                if r["status"] != "success" or not (e > 0) or not (x > 0):
-                    left_out += 1
+                if (c, e, s) in same:
+                    infos.append(f"{s} = {same[(c, e, s)]} (same counts and errors; drawn once)")
                     continue
-                pts.append((number(r["rtol"]), x, e))
-            if not pts:
-                continue
-            pts.sort(reverse=True)  # loose to tight
-            first = rows[[r["combination"] for r in rows].index(combo)]
-            style, marker = COORDINATE_STYLES.get(first["coordinates"], ("-", "o"))
-            ax.plot([p[1] for p in pts], [p[2] for p in pts], linestyle=style, marker=marker, markersize=4,
-                    color=SCHEME_COLORS.get(first["scheme"], "gray"), label=combo)
-            # The tolerance of the loosest and tightest points, to read the sweep's direction.
-            for p in (pts[0], pts[-1]):
-                ax.annotate(f"{p[0]:.0e}", (p[1], p[2]), fontsize=6, color="gray", xytext=(3, 3),
-                            textcoords="offset points")
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlabel(x_label)
-        ax.set_title(f"{form} form")
-        ax.grid(True, which="major", alpha=0.3)
-        ax.legend(fontsize=7, loc="lower left")
-    axes[0].set_ylabel(f"orientation error ({error_column.split('_')[2]}), rad")
-    fig.suptitle(f"{scene}: work-precision ({left_out} failed or unmeasured runs left out)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+                pts = []
+                for r in mine:
+                    err, x = number(r[error_column]), x_of(r)
+                    if r["status"] != "success" or not (err > 0) or not (x > 0):
+                        left_out += 1
+                        continue
+                    pts.append((number(r["rtol"]), x, err))
+                if not pts:
+                    continue
+                pts.sort(reverse=True)  # loose to tight
+                ax.plot([p[1] for p in pts], [p[2] for p in pts], marker="o", markersize=3.2, **styles.kw(s))
+                if not guide:  # against rtol the x axis says it already
+                    ax.annotate(pc.fmt_num(pts[0][0]), (pts[0][1], pts[0][2]), fontsize=7, color="0.4",
+                                xytext=(3, 3), textcoords="offset points")
+                xs += [p[1] for p in pts]
+                ys += [p[2] for p in pts]
+                schemes.add(s)
+            failed = sum(r["status"] != "success" for r in rows if (r["coordinates"], r["equations"]) == (c, e))
+            notes = [f"{failed} failed run{'s' if failed > 1 else ''} left out"] if failed else []
+            pc.panel_title(ax, f"{c} / {e}", notes, infos)
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.grid(True, which="major", alpha=0.35)
+            ax.yaxis.set_major_locator(mticker.LogLocator(base=10, numticks=8))
+            ax.yaxis.set_minor_locator(mticker.NullLocator())
+            ax.tick_params(labelsize=9, labelbottom=True)
+            if j == 0:
+                ax.set_ylabel("orientation error  (rad)", fontsize=10)
+            if i == len(coords) - 1:
+                ax.set_xlabel(x_label, fontsize=10)
+    if xs:
+        lo, hi = min(ys), max(ys)
+        axes[0, 0].set_ylim(10 ** math.floor(math.log10(lo)), 10 ** math.ceil(math.log10(hi)))
+        axes[0, 0].set_xlim(min(xs) / 1.4, max(xs) * 1.4)
+    if guide:
+        for ax in axes.flat:
+            ax.plot(rtols, rtols, color="0.55", linewidth=0.9, linestyle=(0, (4, 3)), zorder=1)
+    handles = [Line2D([], [], marker="o", markersize=4, label=s, **styles.kw(s)) for s in styles.order if s in schemes]
+    if guide:
+        handles.append(Line2D([], [], color="0.55", linewidth=0.9, linestyle=(0, (4, 3)), label="error = rtol"))
+    points = "each point one tolerance" + ("" if guide else ", the loosest labelled")
+    subtitle = (f"{len(rows)} runs over rtol {pc.fmt_num(min(rtols))} … {pc.fmt_num(max(rtols))} ({points}); "
+                f"error: {error_column}; {left_out} failed or unmeasured runs left out")
+    return pc.finish_figure(fig, f"{scene}: {title}", subtitle, handles, path)
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("out", help="the study folder (holds results.csv)")
     parser.add_argument("--error", choices=["final", "l2", "max"], default="final")
+    parser.add_argument("--figures", help="figure folder (default OUT/figures)")
+    parser.add_argument("--prefix", default="", help="file name prefix (e.g. study_ for docs/figures)")
     parser.add_argument("--quiet", action="store_true")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     results = os.path.join(args.out, "results.csv")
     if not os.path.exists(results):
-        sys.exit(f"plot_study.py: {results} not found; run 'rigidae study collect' first")
+        print(f"plot_study.py: {results} not found; run 'rigidae study collect' first", file=sys.stderr)
+        return 2
     rows = read_results(results)
     error_column = f"orientation_error_{args.error}_rad"
-    figures = os.path.join(args.out, "figures")
+    figures = args.figures or os.path.join(args.out, "figures")
     os.makedirs(figures, exist_ok=True)
     for scene in sorted({r["scene"] for r in rows}):
         mine = [r for r in rows if r["scene"] == scene]
-        for name, x_of, label in (
-            ("work_precision", lambda r: number(r["wall_min_s"]), "wall time, s (minimum of the repeats)"),
+        for name, x_of, label, title, guide in (
+            ("work_precision", lambda r: number(r["wall_min_s"]), "wall time  (s, minimum of the repeats)",
+             "error against wall time", False),
             ("error_vs_evals", lambda r: number(r["residual_evals"]) + number(r["jacobian_residual_evals"]),
-             "residual evaluations (including difference-quotient Jacobians)"),
+             "residual evaluations  (incl. difference-quotient Jacobians)", "error against residual evaluations",
+             False),
+            ("error_vs_rtol", lambda r: number(r["rtol"]), "rtol  (= atol)", "error against the tolerance", True),
         ):
-            path = os.path.join(figures, f"{scene}_{name}.png")
-            draw(mine, scene, error_column, x_of, label, path)
+            path = os.path.join(figures, f"{args.prefix}{scene}_{name}.png")
+            draw(mine, scene, error_column, x_of, label, title, path, guide)
             if not args.quiet:
                 print(f"figure: {path}")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

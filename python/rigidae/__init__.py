@@ -31,7 +31,7 @@ from .errors import InputError, Interrupted, SolverError
 
 from . import _core  # noqa: E402  (imports rigidae.errors, which must exist first)
 
-__all__ = ["Scene", "Run", "load_scene", "scene_from_dict", "read_scene_dict", "solve", "compare", "study",
+__all__ = ["Scene", "Run", "MultibodyRun", "load_scene", "scene_from_dict", "read_scene_dict", "solve", "compare", "study",
            "read_study", "collect_study", "exact_solution", "quaternion_angle", "InputError", "SolverError",
            "Interrupted", "OPTIONS", "UNITS", "HAVE_PANDAS"]
 __version__ = _core.version
@@ -56,7 +56,8 @@ def _describe(o):
 
 _SOLVE_OPTIONS = [o for o in _core.scene_options("solve") if o["scene_key"]]
 #: Every scene option of solve, keyword name -> its help (from rigidae's table of settings).
-OPTIONS = {_keyword(o["option"]): _describe(o) for o in _SOLVE_OPTIONS}
+#: solve's own `record` keyword (what is kept in memory) stands where the CLI has --record.
+OPTIONS = {_keyword(o["option"]): _describe(o) for o in _SOLVE_OPTIONS if o["option"] != "--record"}
 _FLAGS = {_keyword(o["option"]) for c in ("solve", "compare") for o in _core.scene_options(c) if o["flag"]}
 
 
@@ -246,10 +247,83 @@ class Run:
                 f"t = {self.summary['t_reached']:g} s, {c['steps']} steps, {self.summary['wall_time_s']:.3g} s>")
 
 
+class MultibodyRun:
+    """One run of a multibody scene (schema_version 2), in memory.
+
+    grid       numpy structured array on the output grid: the columns of the
+               CLI's trajectory.csv (t, BODY.qw..qz, BODY.wx..wz in space,
+               BODY.x..z, BODY.vx..vz, JOINT.force_x..z and torque_x..z on
+               the joint's second body in space, JOINT.phi, JOINT.phi_dot,
+               energy, p_x..p_z, L_x..L_z); None when record="none"
+    steps      per IDA step: t, h, order, drift_position, drift_velocity,
+               energy (as steps.csv); None unless record="steps"
+    units      {column: unit} of grid's columns (as trajectory.csv's first line)
+    bodies, joints   names, in the scene's order
+    body(name)  {"t", "q" (n x 4, scalar first), "omega" (n x 3, rad/s, space),
+                 "x" (n x 3, m), "v" (n x 3, m/s)} from the grid
+    joint(name) {"t", "force" (n x 3, N), "torque" (n x 3, N m), "phi", "phi_dot"}:
+                 the reaction on the joint's second body, in space
+    summary    status, message, t_reached, counters, linear_solver (the one
+               used), unknowns, warnings
+    out        the folder steps.csv, trajectory.csv and events.csv went to, or None
+    """
+
+    def __init__(self, raw, scene):
+        self.scene = scene
+        self.status = raw["status"]
+        self.message = raw["message"]
+        self.out = raw["out"]
+        self.bodies = list(raw["bodies"])
+        self.joints = list(raw["joints"])
+        self.units = dict(zip(raw["grid_columns"], raw["grid_units"]))
+        self.summary = {k: raw[k] for k in ("status", "message", "t_reached", "linear_solver", "unknowns",
+                                            "start_warnings")}
+        self.summary["counters"] = dict(raw["counters"])
+        record = raw["record"]
+        self.steps = _structured(raw["step_columns"], raw["steps"], [], ("order",)) if record == "steps" else None
+        self.grid = _structured(raw["grid_columns"], raw["grid"], [], ()) if record != "none" else None
+        self.events = list(raw["events"])
+
+    @property
+    def ok(self):
+        return self.status == "success"
+
+    @property
+    def counters(self):
+        return self.summary["counters"]
+
+    def _columns(self, prefix, names):
+        if self.grid is None:
+            raise ValueError("no output grid recorded (record='none')")
+        return np.column_stack([self.grid[f"{prefix}.{n}"] for n in names])
+
+    def body(self, name):
+        if name not in self.bodies:
+            raise KeyError(f"{name!r} is not a body of this scene; bodies: {', '.join(self.bodies)}")
+        return {"t": self.grid["t"], "q": self._columns(name, ["qw", "qx", "qy", "qz"]),
+                "omega": self._columns(name, ["wx", "wy", "wz"]), "x": self._columns(name, ["x", "y", "z"]),
+                "v": self._columns(name, ["vx", "vy", "vz"])}
+
+    def joint(self, name):
+        if name not in self.joints:
+            raise KeyError(f"{name!r} is not a joint of this scene; joints: {', '.join(self.joints)}")
+        return {"t": self.grid["t"], "force": self._columns(name, ["force_x", "force_y", "force_z"]),
+                "torque": self._columns(name, ["torque_x", "torque_y", "torque_z"]),
+                "phi": self.grid[f"{name}.phi"], "phi_dot": self.grid[f"{name}.phi_dot"]}
+
+    def __repr__(self):
+        return (f"<rigidae.MultibodyRun {len(self.bodies)} bodies, {len(self.joints)} joints: {self.status}, "
+                f"t = {self.summary['t_reached']:g} s, {self.counters['steps']} steps>")
+
+
 def solve(scene, *, record="steps", out=None, **options):
     scene = _as_scene(scene, options)
-    raw = _core.solve(scene, record, None if out is None else os.fspath(out))
-    run = Run(raw, scene)
+    if scene.is_multibody:
+        raw = _core.solve_multibody(scene, record, None if out is None else os.fspath(out))
+        run = MultibodyRun(raw, scene)
+    else:
+        raw = _core.solve(scene, record, None if out is None else os.fspath(out))
+        run = Run(raw, scene)
     if raw["interrupted"] or run.status == "interrupted":
         raise Interrupted(run.message, run)
     if run.status != "success":
@@ -271,10 +345,16 @@ solve.__doc__ = f"""Integrates a scene, as `rigidae solve` does, and returns a R
     scene    a rigidae.Scene, a scene file's path, or a scene dict
     record   "steps": every IDA step (run.steps) and the output grid (run.grid);
              "grid": the output grid only; "none": neither (run.summary only)
-    out      a folder: also write steps.csv, trajectory.csv, events.csv and
-             summary.json there, as the CLI does. None (default): no files.
+    out      a folder: also write the files `rigidae solve` writes there, as
+             the scene's output.record and step_format say (default: steps.csv,
+             trajectory.csv, events.csv, summary.json). None (default): no files.
     options  the CLI's scene overrides, by the same names ('-' as '_'); flags
              take True. Checked with the CLI's messages (InputError).
+
+    A multibody scene (schema_version 2) gives a MultibodyRun: per-body and
+    per-joint arrays (run.body("top")["q"], run.joint("pivot")["force"]);
+    out= then writes steps.csv, trajectory.csv and events.csv (summary.json:
+    the CLI's).
 
     Raises SolverError (the message, and .run with the records up to the
     failure) when the integrator fails, Interrupted (.run) on Ctrl-C, and

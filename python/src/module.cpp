@@ -28,6 +28,8 @@
 #include "rigidae/core/error.hpp"
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"
+#include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/record/multibody_recorder.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/record/columns.hpp"
 #include "rigidae/settings/settings.hpp"
@@ -183,6 +185,107 @@ py::dict solve(const Scene& scene, const std::string& record, const std::optiona
   return r;
 }
 
+// A multibody run held in memory: per step (t, h, order, drift, energy, as
+// steps.csv) and on the output grid (t and MultibodyProblem::output_row, as
+// trajectory.csv), forwarded to the file recorder when there is one.
+class MultibodyMemory final : public StepSink {
+ public:
+  MultibodyMemory(multibody::MultibodyProblem& p, bool steps, bool grid, StepSink* files)
+      : p_(p), keep_steps_(steps), keep_grid_(grid), files_(files), row_(p.output_names().size()) {}
+  void on_step(double t, double h, int order, const Eigen::VectorXd& y) override {
+    if (files_) files_->on_step(t, h, order, y);
+    if (!keep_steps_) return;
+    const auto [pos, vel] = p_.drift(t, y.data());
+    const double H = p_.kinetic_energy(y.data()) + p_.potential_energy(y.data());
+    steps_.insert(steps_.end(), {t, h, static_cast<double>(order), pos, vel, H});
+  }
+  void on_output(double t, const Eigen::VectorXd& y) override {
+    if (files_) files_->on_output(t, y);
+    if (!keep_grid_) return;
+    p_.output_row(y.data(), row_.data());
+    grid_.push_back(t);
+    grid_.insert(grid_.end(), row_.begin(), row_.end());
+  }
+  void on_event(const EventNote& n) override {
+    if (files_) files_->on_event(n);
+    events_.push_back(n);
+  }
+  std::vector<double> steps_, grid_;
+  std::vector<EventNote> events_;
+
+ private:
+  multibody::MultibodyProblem& p_;
+  bool keep_steps_, keep_grid_;
+  StepSink* files_;
+  std::vector<double> row_;
+};
+
+py::dict solve_multibody(const Scene& scene, const std::string& record, const std::optional<std::string>& out) {
+  if (record != "steps" && record != "grid" && record != "none")
+    throw InputError(fmt::format("record='{}' is not valid (valid: 'steps', 'grid' or 'none')", record));
+  multibody::MultibodyProblem problem(scene);
+  std::unique_ptr<MultibodyRecorder> files;
+  if (out) {
+    std::error_code ec;
+    fs::create_directories(*out, ec);
+    if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", *out, ec.message()));
+    files = std::make_unique<MultibodyRecorder>(problem, fs::path(*out));
+  }
+  MultibodyMemory memory(problem, record == "steps", record != "none", files.get());
+  RunResult run;
+  bool interrupted = false;
+  {
+    InterruptScope interrupt;
+    py::gil_scoped_release release;
+    try {
+      run = integrate(problem, scene.solver, scene.time, memory);
+    } catch (const SolverError& e) {
+      run.status = RunStatus::Failed;
+      run.message = e.what();
+    }
+    if (files) files->flush();
+    interrupted = interrupt.interrupted();
+  }
+  std::vector<std::string> grid_columns{"t"};
+  for (const std::string& n : problem.output_names()) grid_columns.push_back(n);
+  std::vector<std::string> units{"s"};
+  for (const std::string& u : problem.output_units()) units.push_back(u);
+  std::vector<std::string> bodies, joints;
+  for (const auto& b : problem.bodies()) bodies.push_back(b.name);
+  for (const auto& j : problem.spec().joints) joints.push_back(j.name);
+  py::list events;
+  for (const EventNote& e : memory.events_)
+    events.append(py::make_tuple(e.t, e.what, e.body, e.from, e.to, e.margin, e.drift_position, e.drift_velocity));
+  const IdaCounters& c = run.counters;
+  py::dict counters;
+  counters["steps"] = c.steps;
+  counters["residual_evals"] = c.residual_evals;
+  counters["jacobian_evals"] = c.jacobian_evals;
+  counters["nonlinear_iters"] = c.nonlinear_iters;
+  counters["nonlinear_conv_fails"] = c.nonlinear_conv_fails;
+  counters["error_test_fails"] = c.error_test_fails;
+  py::dict r;
+  r["status"] = to_string(run.status);
+  r["message"] = run.message;
+  r["interrupted"] = interrupted;
+  r["t_reached"] = run.t_reached;
+  r["linear_solver"] = run.linear_solver;
+  r["counters"] = counters;
+  r["unknowns"] = problem.size();
+  r["start_warnings"] = problem.warnings();  // as summary.json names them
+  r["bodies"] = bodies;
+  r["joints"] = joints;
+  r["record"] = record;
+  r["step_columns"] = std::vector<std::string>{"t", "h", "order", "drift_position", "drift_velocity", "energy"};
+  r["steps"] = table(memory.steps_, 6);
+  r["grid_columns"] = grid_columns;
+  r["grid_units"] = units;
+  r["grid"] = table(memory.grid_, grid_columns.size());
+  r["events"] = events;
+  r["out"] = out ? py::cast(*out) : py::object(py::none());
+  return r;
+}
+
 py::dict compare(const Scene& base, const std::vector<std::string>& args, const std::string& out,
                  const std::function<void(const std::string&)>& progress) {
   const cli::CommandLine cl = cli::parse_arguments(args, cli::command_info("compare"));
@@ -320,6 +423,7 @@ PYBIND11_MODULE(_core, m) {
   m.def("scene_options", &scene_options, py::arg("command"));
   m.def("units_line", &columns::units_line);
   m.def("solve", &solve, py::arg("scene"), py::arg("record"), py::arg("out"));
+  m.def("solve_multibody", &solve_multibody, py::arg("scene"), py::arg("record"), py::arg("out"));
   m.def("compare", &compare, py::arg("scene"), py::arg("args"), py::arg("out"), py::arg("progress"));
   m.def("exact_solution", &exact_solution, py::arg("scene"), py::arg("times"));
 

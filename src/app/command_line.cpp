@@ -19,9 +19,10 @@ constexpr const char* kExitCodes =
 
 const std::array<CommandInfo, 3> kCommands{{
     {settings::kSolve, "solve", "rigidae solve SCENE.toml [options]",
-     "Integrates a scene and writes steps.csv (every IDA step), trajectory.csv\n"
-     "(the output grid), events.csv (chart switches, projections) and summary.json\n"
-     "into a folder. Options override the scene file (docs/scene_format.md).\n",
+     "Integrates a scene and writes steps.csv (every IDA step; steps.npy with\n"
+     "--step-format npy), trajectory.csv (the output grid), events.csv (chart\n"
+     "switches, projections) and summary.json into a folder; --record grid|none\n"
+     "writes less. Options override the scene file (docs/scene_format.md).\n",
      "", kExitCodes},
     {settings::kCompare, "compare", "rigidae compare SCENE.toml [options]",
      "Runs every applicable coordinates x equations x scheme combination against one\n"

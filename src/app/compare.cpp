@@ -28,7 +28,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kAnyScheme = "any";
-// The scheme an Euler-angle run uses: all give it the same ODE.
+// The scheme a run without constraints (Euler angles) uses: all give it the same ODE.
 constexpr const char* kSchemeForUnconstrained = "ggl";
 constexpr const char* kIda = "ida";
 constexpr const char* kArkodeErk = "arkode-erk";
@@ -77,6 +77,9 @@ Scene Combination::applied_to(const Scene& scene) const {
     const std::string ode_default = settings::default_scheme(integrator);
     s.formulation.scheme = ode_default.empty() ? kSchemeForUnconstrained : ode_default;
   }
+  // Compare and study read trajectory.csv and (--keep-steps, --plot) steps.csv:
+  // the scene's output.record and step_format are for solve.
+  s.output = OutputSettings{};
   return s;
 }
 
@@ -126,9 +129,9 @@ std::vector<Combination> combinations_for(const Scene& scene, const std::vector<
     auto runs = [&](const std::string& scheme) {
       return info.schemes.empty() || std::find(info.schemes.begin(), info.schemes.end(), scheme) != info.schemes.end();
     };
-    for (Coordinates c : {Coordinates::EulerAngles, Coordinates::Quaternion, Coordinates::Linear})
+    for (const Coordinates& c : all_coordinates())
       for (Equations e : {Equations::Lagrange, Equations::Euler}) {
-        if (c == Coordinates::EulerAngles && !scene.multibody) {
+        if (!has_constraints(c) && !scene.multibody) {
           all.push_back({c, e, kAnyScheme, ic.integrator, ic.erk_method});
           continue;
         }
@@ -258,7 +261,7 @@ std::string format_compare_table(const CompareReport& r) {
   for (const CompareRow& row : r.rows) {
     const IdaCounters& c = row.outcome.run.counters;
     const RunExtremes& x = row.outcome.extremes;
-    const bool constrained = r.multibody || row.combination.coordinates != Coordinates::EulerAngles;
+    const bool constrained = r.multibody || has_constraints(row.combination.coordinates);
     const std::string lambda =
         std::isnan(row.lambda_min) ? "-" : fmt::format("[{:.3g}, {:.3g}]", row.lambda_min, row.lambda_max);
     s += fmt::format("{:<{}} {:<8} {:>8} {:>9} {:>6} {:>8.3f} {:>8} {:>8} {:>8} {:>8} {:>8} {:>21} {:>8} {:>8}{}\n",
@@ -344,7 +347,7 @@ void write_compare_outputs(const CompareReport& r, const std::filesystem::path& 
     for (const CompareRow& row : r.rows) {
       const IdaCounters& c = row.outcome.run.counters;
       const RunExtremes& x = row.outcome.extremes;
-      const bool constrained = r.multibody || row.combination.coordinates != Coordinates::EulerAngles;
+      const bool constrained = r.multibody || has_constraints(row.combination.coordinates);
       f << fmt::format("| {} | {} | {} | {} | {:.3f} | {} | {} | {} | {} | {} | {} | {} |\n", row.combination.name(),
                        to_string(row.outcome.run.status), c.steps, c.residual_evals + c.jacobian_residual_evals,
                        row.wall_median, constrained ? sci(x.max_drift_position) : "–",

@@ -68,6 +68,7 @@ nlohmann::json configuration_json(const Scene& s, const std::vector<SchemeParame
     std::replace(pointer.begin(), pointer.end(), '.', '/');
     j[nlohmann::json::json_pointer(pointer)] = value;
   }
+  if (!s.time.output_times.empty()) j["output"]["times"] = s.time.output_times;
   j["formulation"]["baumgarte"]["a"] = used_or_set(used, "a", s.formulation.baumgarte.a);
   j["formulation"]["baumgarte"]["b"] = used_or_set(used, "b", s.formulation.baumgarte.b);
   j["formulation"]["projection"]["threshold"] = used_or_set(used, "threshold", s.formulation.projection.threshold);
@@ -137,6 +138,7 @@ nlohmann::json summary(const Scene& scene, const SolveOutcome& o) {
       {"status", to_string(o.run.status)},
       {"message", o.run.message},
       {"t_reached", o.run.t_reached},
+      {"linear_solver", o.run.linear_solver.empty() ? "none" : o.run.linear_solver},  // the one Newton used
       {"wall_time_s", o.wall_seconds},
       {"initial_residual_max_abs", o.run.initial_residual},
       {"counters", counters_json(c)},

@@ -45,7 +45,7 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
   o.scheme = problem.scheme().name;
   o.note = fmt::format("{} bodies, {} joints, {} unknowns", problem.bodies().size(), scene.multibody->joints.size(),
                        problem.size());
-  MultibodyRecorder recorder(problem, out_dir);
+  MultibodyRecorder recorder(problem, out_dir, scene.output, scene.time);
   MultibodyInvariantMonitor monitor(problem, scene, &recorder);
   const auto t0 = std::chrono::steady_clock::now();
   try {
@@ -55,7 +55,7 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
     o.run.message = e.what();
   }
   o.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  recorder.flush();
+  recorder.close();
   o.extremes.steps_recorded = recorder.steps_recorded();
   o.extremes.max_drift_position = recorder.max_drift_position();
   o.extremes.max_drift_velocity = recorder.max_drift_velocity();
@@ -100,7 +100,8 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
       {"rtol", scene.solver.rtol},
       {"atol", scene.solver.atol},
       {"jacobian", scene.solver.jacobian},
-      {"linear_solver", scene.solver.linear_solver},
+      {"linear_solver", o.run.linear_solver},  // the one used ("auto" resolved by size)
+      {"linear_solver_setting", scene.solver.linear_solver},
       {"start_warnings", problem.warnings()},
       {"warnings", accuracy_warnings},
       {"accuracy_check",

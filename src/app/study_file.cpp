@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "../io/parse_hints.hpp"
 #include "../io/toml_reader.hpp"
 #include "rigidae/app/study.hpp"
 #include "rigidae/core/error.hpp"
@@ -254,11 +255,12 @@ StudySpec load_study(const std::string& path) {
   std::ostringstream buf;
   buf << in.rdbuf();
   const TomlReader reader(path);
+  const std::string text = buf.str();
   toml::table root;
   try {
-    root = toml::parse(buf.str(), std::string_view(path));
+    root = toml::parse(text, std::string_view(path));
   } catch (const toml::parse_error& e) {
-    reader.fail(e.source(), fmt::format("invalid TOML: {}", e.description()));
+    reader.fail(e.source(), io::explain_parse_error(text, e));
   }
   return read_study(reader, root);
 }

@@ -12,6 +12,7 @@
 #include "plot_script.hpp"
 #include "rigidae/app/command_line.hpp"
 #include "output_folder.hpp"
+#include "reference_csv.hpp"
 
 namespace rigidae::cli {
 
@@ -57,8 +58,11 @@ int compare_command(const std::vector<std::string>& args) {
     if (!quiet) fmt::print(stderr, "{}\n", line);
   });
   write_compare_outputs(report, opt.out);
+  write_reference_csv(report.reference, opt.out / "reference.csv");  // error against time, for the figures
   if (!quiet) fmt::print("{}", format_compare_table(report));
-  if (!quiet) fmt::print("outputs: {}/ (compare.csv, compare.txt, compare.md, one folder per combination)\n", opt.out.string());
+  if (!quiet)
+    fmt::print("outputs: {}/ (compare.csv, compare.txt, compare.md, {}one folder per combination)\n", opt.out.string(),
+               report.reference.ok ? "reference.csv, " : "");
 
   if (plot) {
     std::vector<std::string> plot_args{opt.out.string()};

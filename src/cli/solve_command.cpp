@@ -2,14 +2,37 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "rigidae/app/error_estimate.hpp"
 #include "rigidae/app/solve.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/app/command_line.hpp"
 #include "output_folder.hpp"
+#include "plot_script.hpp"
+#include "reference_csv.hpp"
+#include "rigidae/app/reference.hpp"
 
 namespace rigidae::cli {
 
 namespace {
+
+// The files the run wrote, as scene.output chose them (record/recorder.hpp).
+std::string recorded_files(const OutputSettings& out) {
+  std::string files;
+  if (out.record == RecordMode::Steps) files += out.step_format == StepFormat::Npy ? "steps.npy, " : "steps.csv, ";
+  if (out.record != RecordMode::None) files += "trajectory.csv, ";
+  return files + "events.csv, summary.json";
+}
+
+void print_error_estimate(const ErrorEstimate& e) {
+  fmt::print("  error est.    tight run (rtol {:g}, atol {:g}): {}\n", e.rtol, e.atol, e.tight_status);
+  if (e.tight_status == "success")
+    fmt::print("                orientation |run - tight| {:.2e} rad at t = {:g} s, max {:.2e} rad over the grid\n",
+               e.estimate.final, e.estimate.t_final, e.estimate.max);
+  if (e.closed_form)
+    fmt::print("  error         orientation |run - closed form| {:.2e} rad at t = {:g} s, max {:.2e} rad over the "
+               "grid\n",
+               e.closed_form->final, e.closed_form->t_final, e.closed_form->max);
+}
 
 void print_report(const Scene& scene, const SolveOutcome& o) {
   const RunResult& r = o.run;
@@ -50,7 +73,7 @@ void print_report(const Scene& scene, const SolveOutcome& o) {
   if (c.projections > 0)
     fmt::print("  projections   {} (each restarts IDA at order 1)\n", c.projections);
   if (c.restarts > 0) fmt::print("  restarts      {} IDAReInit calls\n", c.restarts);
-  fmt::print("  outputs       {}/ (steps.csv, trajectory.csv, events.csv, summary.json)\n", o.out_dir.string());
+  fmt::print("  outputs       {}/ ({})\n", o.out_dir.string(), recorded_files(scene.output));
 }
 
 }  // namespace
@@ -63,6 +86,10 @@ int solve_command(const std::vector<std::string>& args) {
     return 0;
   }
   const Scene scene = scene_from(cl, info);
+  const bool error_estimate = cl.has("--error-estimate");
+  if (error_estimate && scene.output.record == RecordMode::None)
+    throw InputError("--error-estimate compares the output grids of two runs: it needs --record steps or grid, "
+                     "not none");
   const std::string out_arg = cl.text("--out");
   const bool quiet = cl.has("--quiet");
 
@@ -72,8 +99,22 @@ int solve_command(const std::vector<std::string>& args) {
   const SolveOutcome o = solve_scene(scene, out);
   if (!quiet || o.run.status != RunStatus::Success) print_report(scene, o);
   for (const std::string& w : o.start_warnings) fmt::print(stderr, "rigidae: warning: {}\n", w);
+  if (error_estimate && o.run.status == RunStatus::Success) {
+    const ErrorEstimate e = estimate_global_error(scene, o);
+    add_error_estimate_to_summary(out / "summary.json", e);
+    if (!quiet) print_error_estimate(e);
+  }
   // Accuracy warnings (app/accuracy_check.hpp) reach stderr even with --quiet.
   for (const AccuracyWarning& w : o.warnings) fmt::print(stderr, "rigidae: warning: {}\n", w.message);
+  if (cl.has("--plot")) {
+    // The closed form on the output grid, when the scene has one, so that the
+    // figures can draw the error against time.
+    if (!scene.multibody)
+      if (const auto ref = exact_reference(scene, nullptr)) write_reference_csv(*ref, out / "reference.csv");
+    std::vector<std::string> plot_args{out.string()};
+    if (quiet) plot_args.push_back("--quiet");
+    run_plot_script("plot_solve.py", plot_args);
+  }
   if (o.run.status != RunStatus::Success) {
     fmt::print(stderr, "rigidae: error: {}\n", o.run.message);
     return 1;

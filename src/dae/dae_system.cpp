@@ -11,9 +11,9 @@
 
 namespace rigidae {
 
-DaeSystem::DaeSystem(const Scene& scene, std::unique_ptr<Representation> rep,
+DaeSystem::DaeSystem(RigidBodyModel body, std::unique_ptr<Representation> rep,
                      std::unique_ptr<ConstraintScheme> scheme)
-    : body_(make_rigid_body_model(scene)), start_chart_(rep->chart()), scheme_(std::move(scheme)) {
+    : body_(std::move(body)), start_chart_(rep->chart()), scheme_(std::move(scheme)) {
   layout_ = scheme_->layout(*rep);
   charts_.resize(static_cast<std::size_t>(rep->chart_count()));
   for (int c = 0; c < rep->chart_count(); ++c)
@@ -193,8 +193,8 @@ std::unique_ptr<DaeSystem> assemble_dae(const Scene& scene) {
                                  "one-body model cannot run it, and this build has no multibody assembler",
                                  scene.source.empty() ? std::string("scene") : scene.source));
   const RigidBodyModel body = make_rigid_body_model(scene);
-  return std::make_unique<DaeSystem>(scene, make_representation(scene, body),
-                                     make_scheme(scene.formulation.scheme, scene));
+  return std::make_unique<DaeSystem>(body, make_representation(scene, body),
+                                     make_scheme(scene.formulation.scheme, scheme_settings(scene)));
 }
 
 }  // namespace rigidae

@@ -35,6 +35,7 @@
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/model/scene.hpp"
+#include "rigidae/settings/settings.hpp"
 #include "scene_sections.hpp"
 #include "toml_reader.hpp"
 
@@ -45,9 +46,9 @@ namespace {
 // The schema
 // ---------------------------------------------------------------------------
 
-constexpr std::array<std::string_view, 13> kRootKeys{
+constexpr std::array<std::string_view, 14> kRootKeys{
     "schema_version", "name",    "description", "start_tolerance", "reference", "bodies",  "joints",
-    "springs",        "loads",   "gravity",     "time",            "formulation", "solver"};
+    "springs",        "loads",   "gravity",     "time",            "output",      "formulation", "solver"};
 constexpr std::array<std::string_view, 14> kBodyKeys{
     "name",     "mass",  "inertia_principal", "inertia",    "inertia_axes", "position",         "quaternion",
     "euler",    "matrix", "axis_angle",       "velocity",   "angular_velocity", "angular_velocity_frame",
@@ -243,6 +244,7 @@ class MultibodyReader {
     read_loads(spec);
 
     read_time(r_, root_, scene);
+    read_output(r_, root_, scene);
     read_formulation(r_, root_, scene);
     read_solver(r_, root_, scene);
     check_settings_together(r_, root_, scene);
@@ -399,10 +401,10 @@ class MultibodyReader {
         space = r_.choice(*f, join_key(prefix, "angular_velocity_frame"), kFrames) == 0;
       b.omega0_B = space ? Vec3(b.R0_WB.transpose() * w) : w;
       if (const toml::node* c = t.get("coordinates")) {
-        constexpr std::array<std::string_view, 3> opts{"euler", "quaternion", "linear"};
-        constexpr std::array<Coordinates, 3> vals{Coordinates::EulerAngles, Coordinates::Quaternion,
-                                                  Coordinates::Linear};
-        b.coordinates = vals[r_.choice(*c, join_key(prefix, "coordinates"), opts)];
+        // The values formulation.coordinates takes: the representation registry's.
+        const std::vector<std::string> names = settings::scene_setting("formulation.coordinates").choices();
+        const std::vector<std::string_view> opts(names.begin(), names.end());
+        b.coordinates = Coordinates(names[r_.choice(*c, join_key(prefix, "coordinates"), opts)]);
       }
       poses_.push_back({b.R0_WB, b.x0_W});
       body_index_.emplace(b.name, static_cast<int>(body_names_.size()));

@@ -49,9 +49,9 @@ namespace {
 constexpr int kSchemaVersion = 1;
 constexpr int kMultibodySchemaVersion = 2;  // bodies and joints: multibody_loader.cpp
 
-constexpr std::array<std::string_view, 11> kRootKeys{
+constexpr std::array<std::string_view, 12> kRootKeys{
     "schema_version", "name", "description", "body", "support",
-    "gravity", "initial", "time", "formulation", "solver", "reference"};
+    "gravity", "initial", "time", "output", "formulation", "solver", "reference"};
 constexpr std::array<std::string_view, 4> kBodyKeys{"mass", "inertia_principal", "inertia",
                                                     "center_of_mass"};
 constexpr std::array<std::string_view, 1> kSupportKeys{"type"};
@@ -77,6 +77,7 @@ std::vector<std::string_view> setting_keys(std::string_view table, std::initiali
 // Built on first use (the table of settings lives in another translation unit).
 struct SettingTables {
   std::vector<std::string_view> time = setting_keys("time", {});
+  std::vector<std::string_view> output = setting_keys("output", {"times"});
   std::vector<std::string_view> formulation = setting_keys("formulation", {"euler_angles", "baumgarte", "projection"});
   std::vector<std::string_view> euler_angles = setting_keys("formulation.euler_angles", {"convention"});
   std::vector<std::string_view> baumgarte = setting_keys("formulation.baumgarte", {});
@@ -90,7 +91,7 @@ constexpr std::array<std::string_view, 4> kOrientationForms{"quaternion", "euler
 // Every table's keys, used to point a key written in the wrong table to the right one.
 struct Schema {
   SettingTables settings;
-  std::array<SectionKeys, 13> sections{{
+  std::array<SectionKeys, 14> sections{{
       {"", kRootKeys},
       {"body", kBodyKeys},
       {"support", kSupportKeys},
@@ -99,6 +100,7 @@ struct Schema {
       {"initial.euler", kInitialEulerKeys},
       {"initial.axis_angle", kAxisAngleKeys},
       {"time", settings.time},
+      {"output", settings.output},
       {"formulation", settings.formulation},
       {"formulation.euler_angles", settings.euler_angles},
       {"formulation.baumgarte", settings.baumgarte},
@@ -118,7 +120,7 @@ std::span<const SectionKeys> shared_sections_impl() {
   static const std::vector<SectionKeys> shared = [] {
     std::vector<SectionKeys> v;
     for (const SectionKeys& s : schema().sections)
-      if (s.name == "gravity" || s.name == "time" || s.name == "solver" || s.name.rfind("formulation", 0) == 0)
+      if (s.name == "gravity" || s.name == "time" || s.name == "output" || s.name == "solver" || s.name.rfind("formulation", 0) == 0)
         v.push_back(s);
     return v;
   }();
@@ -482,6 +484,46 @@ void read_time(const TomlReader& r, const toml::table& root, Scene& scene) {
     scene.time.output_step = (scene.time.end - scene.time.start) / 100.0;
 }
 
+// [output]: record and step_format from the table of settings; `times`, an
+// array, here: each time a number, strictly increasing, inside the time span.
+void read_output(const TomlReader& r, const toml::table& root, Scene& scene) {
+  const toml::table* t = r.optional_table(root, "", "output");
+  if (!t) return;
+  r.check_keys(*t, "output", schema().settings.output, schema().sections);
+  read_settings(r, *t, "output", scene);
+  const toml::node* n = t->get("times");
+  if (!n) return;
+  const toml::array* a = n->as_array();
+  const TimeGrid& g = scene.time;
+  const std::string span = fmt::format("[time.start, time.end] = [{}, {}] s", g.start, g.end);
+  if (!a)
+    r.fail(*n, fmt::format("'output.times' must be an array of times in s, strictly increasing inside {} (e.g. "
+                           "[1.0, 2.5, 7.0]), not {}",
+                           span, type_name(*n)));
+  if (a->empty())
+    r.fail(*n, fmt::format("'output.times' is empty: give at least one time in s inside {}, or leave the key out "
+                           "for the even grid of time.output_step",
+                           span));
+  if (const toml::table* time = root.get_as<toml::table>("time"); time && time->contains("output_step"))
+    r.fail(*n, "'output.times' and 'time.output_step' both choose the output times: keep one (output.times for "
+               "given times, time.output_step for an even grid)");
+  std::vector<double> times;
+  for (std::size_t i = 0; i < a->size(); ++i) {
+    const toml::node& e = *a->get(i);
+    const std::string name = fmt::format("output.times[{}]", i);
+    const double x = r.number(e, name);
+    if (x < g.start || x > g.end)
+      r.fail(e, fmt::format("'{}' = {} s is outside the time span {}; every output time must lie inside it", name,
+                            x, span));
+    if (!times.empty() && !(x > times.back()))
+      r.fail(e, fmt::format("'{}' = {} s must be greater than 'output.times[{}]' = {} s: the times must be strictly "
+                            "increasing",
+                            name, x, i - 1, times.back()));
+    times.push_back(x);
+  }
+  scene.time.output_times = std::move(times);
+}
+
 void read_euler_charts(const TomlReader& r, const toml::table& f, EulerChartSpec& euler, Scene& scene) {
   const toml::table* ea = r.optional_table(f, "formulation", "euler_angles");
   if (!ea) return;
@@ -596,6 +638,7 @@ Scene read_scene(const TomlReader& r, const toml::table& root) {
   read_gravity(r, root, scene);
   read_initial(r, root, scene);
   read_time(r, root, scene);
+  read_output(r, root, scene);
   read_formulation(r, root, scene);
   read_solver(r, root, scene);
   check_settings_together(r, root, scene);
@@ -603,48 +646,6 @@ Scene read_scene(const TomlReader& r, const toml::table& root) {
   return scene;
 }
 
-// The code point at a parser position (line and column counted in code
-// points, from 1), or -1 past the end of the text or at an invalid sequence.
-long code_point_at(std::string_view text, const toml::source_position& pos) {
-  std::size_t i = 0;
-  for (toml::source_index line = 1; line < pos.line; ++line) {
-    i = text.find('\n', i);
-    if (i == std::string_view::npos) return -1;
-    ++i;
-  }
-  for (toml::source_index col = 1; i < text.size(); ++col) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    const std::size_t len = c < 0x80 ? 1 : c >= 0xf0 ? 4 : c >= 0xe0 ? 3 : c >= 0xc0 ? 2 : 0;
-    if (len == 0 || i + len > text.size()) return -1;
-    if (col == pos.column) {
-      long cp = len == 1 ? c : c & (0xff >> (len + 1));
-      for (std::size_t k = 1; k < len; ++k) cp = (cp << 6) | (static_cast<unsigned char>(text[i + k]) & 0x3f);
-      return cp;
-    }
-    if (c == '\n') return -1;
-    i += len;
-  }
-  return -1;
-}
-
-// toml++'s description of a syntax error, with what it usually means added
-// where its words alone mislead.
-std::string explain_parse_error(std::string_view text, const toml::parse_error& e) {
-  // The parser's words may quote the input raw (a newline, an escape byte): escaped, one line.
-  std::string msg = fmt::format("invalid TOML: {}", printable(e.description(), 1000));
-  const long cp = code_point_at(text, e.source().begin);
-  if (e.description().find("utf-8") != std::string_view::npos)
-    msg += " (the file is not UTF-8 text: a binary file, or text saved in another encoding such as Latin-1)";
-  else if (e.description().find("control characters") != std::string_view::npos && (cp == '\n' || cp == '\r' || cp < 0))
-    msg += " (the string is not closed before the end of the line; a \"...\" string ends on its own line, "
-           "use \"\"\"...\"\"\" for several lines)";
-  else if (cp >= 0x80)
-    msg += fmt::format(" (the character there is U+{:04X}, not ASCII: keys without quotes, numbers, '=' and "
-                       "the spaces between them must be ASCII; look for a look-alike letter, digit or space)",
-                       cp);
-  msg += io::parse_error_hint(text, e.description(), e.source().begin.line);  // JSON look-alikes
-  return msg;
-}
 
 }  // namespace
 
@@ -656,6 +657,7 @@ void read_scene_name(const TomlReader& r, const toml::table& root, Scene& scene)
 }
 void read_gravity(const TomlReader& r, const toml::table& root, Scene& scene) { io::read_gravity(r, root, scene); }
 void read_time(const TomlReader& r, const toml::table& root, Scene& scene) { io::read_time(r, root, scene); }
+void read_output(const TomlReader& r, const toml::table& root, Scene& scene) { io::read_output(r, root, scene); }
 void read_formulation(const TomlReader& r, const toml::table& root, Scene& scene) {
   io::read_formulation(r, root, scene);
 }

@@ -25,6 +25,8 @@ void read_scene_name(const TomlReader& r, const toml::table& root, Scene& scene)
 // [gravity], [time] (required), [formulation], [solver]: schema 1's tables.
 void read_gravity(const TomlReader& r, const toml::table& root, Scene& scene);
 void read_time(const TomlReader& r, const toml::table& root, Scene& scene);
+// [output] (optional): record mode, step file format, output times. After read_time.
+void read_output(const TomlReader& r, const toml::table& root, Scene& scene);
 void read_formulation(const TomlReader& r, const toml::table& root, Scene& scene);
 void read_solver(const TomlReader& r, const toml::table& root, Scene& scene);
 // The settings at the top level (`reference`), and the checks between

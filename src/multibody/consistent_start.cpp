@@ -340,6 +340,8 @@ void MultibodyProblem::start(const Scene& scene) {
 void MultibodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
   y = y0_;
   yp = yp0_;
+  // A torsion angle starts on its principal branch (-pi, pi].
+  for (TorsionSpring& ts : torsions_) ts.reference = 0.0;
   make_consistent(t0, y, yp);
 }
 

@@ -14,6 +14,7 @@
 //             + c e_hat ((I - e_hat e_hat^T) e' / l)^T),
 //   dF/de' = -c e_hat e_hat^T.
 // The dynamic rows hold -f, so every term enters with a minus sign.
+// Torsional spring-dampers in revolute joints: torsion.cpp.
 #include <cmath>
 
 #include "rigidae/multibody/multibody_problem.hpp"
@@ -88,6 +89,7 @@ void MultibodyProblem::add_forces(const double* /*y*/, double* F) {
       for (int k = 0; k < sa->nv(); ++k) F[vo + k] += ea.Wm.col(k).dot(se.F);
     }
   }
+  add_torsion_forces(F);
 }
 
 void MultibodyProblem::add_force_jacobian(const double* /*y*/, JacobianSink& sink) {
@@ -163,6 +165,7 @@ void MultibodyProblem::add_force_jacobian(const double* /*y*/, JacobianSink& sin
       }
     }
   }
+  add_torsion_jacobian(sink);
 }
 
 }  // namespace rigidae::multibody

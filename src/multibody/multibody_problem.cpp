@@ -107,11 +107,6 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
   }
   for (int j = 0; j < static_cast<int>(spec_.joints.size()); ++j) {
     const JointSpec& js = spec_.joints[j];
-    // Not modelled yet: said, never silently dropped.
-    if (js.torsion_stiffness != 0.0 || js.torsion_damping != 0.0)
-      warnings_.push_back(fmt::format("joint '{}': its torsional spring-damper (stiffness {:g} N m/rad, damping {:g} "
-                                      "N m s/rad) is not modelled by the multibody assembler yet and is ignored",
-                                      js.name, js.torsion_stiffness, js.torsion_damping));
     ConstraintBlock blk;
     blk.joint = j;
     blk.kind = ConstraintKind::Force;
@@ -125,6 +120,10 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
   }
   for (const ConstraintBlock& b : blocks_)
     if (b.kind == ConstraintKind::Force) has_force_blocks_ = true;
+  // Per joint its block, looked up per output row (a search would make rows O(joints^2)).
+  block_of_joint_.assign(spec_.joints.size(), -1);
+  for (int k = 0; k < static_cast<int>(blocks_.size()); ++k)
+    if (!blocks_[k].internal) block_of_joint_[blocks_[k].joint] = k;
   n_ = offset;
 
   work_.resize(bodies_.size());
@@ -134,6 +133,7 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
     work_[i].st.nvr = bodies_[i].nvr;
   }
   block_eval_.resize(blocks_.size());
+  torsions_ = torsion_springs(spec_);
   sink_ = std::make_unique<JacobianSink>(groups_);
 
   start(scene);

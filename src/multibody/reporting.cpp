@@ -37,17 +37,9 @@ Vec3 MultibodyProblem::body_velocity(int i, const double* y) const {
   return ConstMap(y + groups_[bodies_[i].v_group].offset, 3);
 }
 
-namespace {
-int block_of_joint(const std::vector<ConstraintBlock>& blocks, int joint) {
-  for (int j = 0; j < static_cast<int>(blocks.size()); ++j)
-    if (!blocks[j].internal && blocks[j].joint == joint) return j;
-  return -1;
-}
-}  // namespace
-
 JointReaction MultibodyProblem::joint_reaction(int joint, const double* y) {
   JointReaction out;
-  const int j = block_of_joint(blocks_, joint);
+  const int j = block_of_joint_[joint];
   if (j < 0 || blocks_[j].lambda_group < 0) return out;
   if (y != evaluated_y_) evaluate(0.0, y, 2);
   const ConstraintBlock& blk = blocks_[j];
@@ -97,7 +89,7 @@ JointReaction MultibodyProblem::joint_reaction(int joint, const double* y) {
 }
 
 std::pair<double, double> MultibodyProblem::joint_residuals(int joint, const double* y) {
-  const int j = block_of_joint(blocks_, joint);
+  const int j = block_of_joint_[joint];
   if (j < 0) return {0.0, 0.0};
   if (y != evaluated_y_) evaluate(0.0, y, 2);
   evaluate_block(j, y, nullptr);
@@ -117,7 +109,7 @@ double MultibodyProblem::kinetic_energy(const double* y) const {
   return T;
 }
 
-// Gravity, springs, and constant space forces (their potential -F . x).
+// Gravity, springs, torsional springs, and constant space forces (their potential -F . x).
 double MultibodyProblem::potential_energy(const double* y) {
   double V = 0.0;
   for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) V -= bodies_[i].mass * spec_.gravity_W.dot(body_position(i, y));
@@ -136,7 +128,7 @@ double MultibodyProblem::potential_energy(const double* y) {
     const double stretch = (p[1] - p[0]).norm() - s.rest_length;
     V += 0.5 * s.stiffness * stretch * stretch;
   }
-  return V;
+  return V + torsion_potential_energy();
 }
 
 Vec3 MultibodyProblem::linear_momentum(const double* y) const {

@@ -2,6 +2,7 @@
 #include "rigidae/multibody/rotation_map.hpp"
 
 #include "../coords/coordinate_maps.hpp"
+#include "rigidae/core/error.hpp"
 #include "rigidae/model/scene.hpp"
 #include "rigidae/so3/rotation.hpp"
 
@@ -86,13 +87,25 @@ class EulerMap final : public RotationMap {
 
 }  // namespace
 
-std::unique_ptr<RotationMap> make_rotation_map(Coordinates c, const so3::EulerSequence& seq) {
-  switch (c) {
-    case Coordinates::Quaternion: return std::make_unique<QuaternionMap>();
-    case Coordinates::Linear: return std::make_unique<LinearMap>();
-    case Coordinates::EulerAngles: return std::make_unique<EulerMap>(seq);
-  }
-  return nullptr;
+std::unique_ptr<RotationMap> make_rotation_map(const Coordinates& c, const so3::EulerSequence& seq) {
+  // One row per registered coordinates (coords/registry.cpp) that multibody
+  // scenes can use.
+  struct Entry {
+    const Coordinates& coordinates;
+    std::unique_ptr<RotationMap> (*make)(const so3::EulerSequence&);
+  };
+  static const Entry kMaps[] = {
+      {Coordinates::Quaternion, [](const so3::EulerSequence&) -> std::unique_ptr<RotationMap> {
+         return std::make_unique<QuaternionMap>();
+       }},
+      {Coordinates::Linear,
+       [](const so3::EulerSequence&) -> std::unique_ptr<RotationMap> { return std::make_unique<LinearMap>(); }},
+      {Coordinates::EulerAngles,
+       [](const so3::EulerSequence& s) -> std::unique_ptr<RotationMap> { return std::make_unique<EulerMap>(s); }},
+  };
+  for (const Entry& e : kMaps)
+    if (e.coordinates == c) return e.make(seq);
+  throw InputError("coordinates '" + c.name() + "' have no rotation map for multibody scenes (src/multibody/rotation_map.cpp)");
 }
 
 }  // namespace rigidae::multibody

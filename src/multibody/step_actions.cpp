@@ -91,6 +91,10 @@ StepAction MultibodyProblem::on_event(double t, double h, Eigen::VectorXd& y, Ei
 
 StepAction MultibodyProblem::after_step(double t, double h, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
   StepAction a;
+  if (!torsions_.empty()) {
+    evaluate(t, y.data(), 2);  // order 2: the Lagrange form's bias terms of the rows
+    follow_torsion_angles();
+  }
   if (change_charts(t, y, yp, false)) a.kind = StepAction::Kind::Restart;
   if (scheme_.projection) {
     const auto [pos, vel] = drift(t, y.data());

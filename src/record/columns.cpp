@@ -2,7 +2,12 @@
 // column; a group of columns (qw..qz) states its units once, on its first row.
 #include "rigidae/record/columns.hpp"
 
+#include "shortest_double.hpp"
+
+#include <algorithm>
 #include <charconv>
+#include <cstdint>
+#include <cstring>
 
 // Rows name only the fields they set; the others keep their defaults by design.
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
@@ -43,13 +48,16 @@ const Column kColumns[] = {
     {"chart", "", kBoth, Kind::Chart},
 };
 
-// Shortest text that reads back to the same double (std::to_chars, Ryu in
-// libstdc++): exact, and ~3x fewer instructions than fmt with a precision.
+// Shortest text that reads back to the same double, in std::to_chars' layout
+// (shortest_double.hpp: Dragonbox's digits, half the instructions of
+// libstdc++'s to_chars, which took 29% of a recorded heavy-top run), written
+// straight into the row's buffer.
 void put(fmt::memory_buffer& b, double x, bool first) {
-  char text[32];
-  const auto end = std::to_chars(text, text + sizeof text, x).ptr;
-  if (!first) b.push_back(',');
-  b.append(text, end);
+  const std::size_t at = b.size();
+  b.resize(at + 1 + record_detail::kShortestMaxBytes);  // no initialisation: only room
+  char* p = b.data() + at;
+  if (!first) *p++ = ',';
+  b.resize(static_cast<std::size_t>(record_detail::write_shortest(p, x) - b.data()));
 }
 
 bool shown(const Column& c, File file, bool with_chart) {
@@ -112,6 +120,52 @@ void append_row(fmt::memory_buffer& b, File file, const Sample& s, bool with_cha
     first = false;
   }
   b.push_back('\n');
+}
+
+std::vector<NpyField> npy_fields(File file, const std::vector<std::string>& multiplier_names, bool with_chart) {
+  std::vector<NpyField> f;
+  for (const Column& c : all()) {
+    if (!shown(c, file, with_chart)) continue;
+    switch (c.kind) {
+      case Kind::Real: f.push_back({std::string(c.name), "<f8", 8}); break;
+      case Kind::Integer: f.push_back({std::string(c.name), "<i8", 8}); break;
+      case Kind::Multipliers:
+        for (const std::string& m : multiplier_names) f.push_back({m, "<f8", 8});
+        break;
+      case Kind::Chart: f.push_back({std::string(c.name), fmt::format("|S{}", kChartBytes), kChartBytes}); break;
+    }
+  }
+  return f;
+}
+
+namespace {
+template <typename T>
+void put_binary(fmt::memory_buffer& b, T x) {
+  char bytes[sizeof(T)];
+  std::memcpy(bytes, &x, sizeof(T));
+  b.append(bytes, bytes + sizeof(T));
+}
+}  // namespace
+
+void append_binary_row(fmt::memory_buffer& b, File file, const Sample& s, bool with_chart) {
+  for (const Column& c : all()) {
+    if (!shown(c, file, with_chart)) continue;
+    switch (c.kind) {
+      case Kind::Real: put_binary(b, c.value(s)); break;
+      case Kind::Integer: put_binary(b, static_cast<std::int64_t>(c.integer(s))); break;
+      case Kind::Multipliers: {
+        const auto& m = s.observation->multipliers;
+        for (int i = 0; i < m.size(); ++i) put_binary(b, m(i));
+        break;
+      }
+      case Kind::Chart: {
+        char name[kChartBytes] = {};  // NumPy's S type: padded with zero bytes
+        std::memcpy(name, s.chart.data(), std::min(s.chart.size(), kChartBytes));
+        b.append(name, name + kChartBytes);
+        break;
+      }
+    }
+  }
 }
 
 bool is_multiplier(std::string_view n) { return n.rfind("lambda_", 0) == 0 || n.rfind("mu_", 0) == 0; }

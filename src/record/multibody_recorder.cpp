@@ -1,10 +1,12 @@
 #include "rigidae/record/multibody_recorder.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <iterator>
 #include <cmath>
+#include <cstdint>
 
 namespace rigidae {
 
@@ -33,19 +35,48 @@ std::string units_comment(const multibody::MultibodyProblem& p) {
              "for angular rows), phi_dot |G v|";
 }
 
+constexpr const char* kStepColumns[] = {"t", "h", "order", "drift_position", "drift_velocity", "energy",
+                                         "energy_rel_error"};
+
+std::vector<NpyField> step_fields() {
+  std::vector<NpyField> f;
+  for (const char* name : kStepColumns) f.push_back({name, std::string(name) == "order" ? "<i8" : "<f8", 8});
+  return f;
+}
+
+void remove_stale(const std::filesystem::path& path) {
+  std::error_code ec;
+  std::filesystem::remove(path, ec);
+}
+
 }  // namespace
 
-MultibodyRecorder::MultibodyRecorder(multibody::MultibodyProblem& problem, const std::filesystem::path& out_dir)
+MultibodyRecorder::MultibodyRecorder(multibody::MultibodyProblem& problem, const std::filesystem::path& out_dir,
+                                     const OutputSettings& output, const TimeGrid& time)
     : problem_(problem),
-      steps_(out_dir / "steps.csv",
-             "# units: t s; h s; drift_position max |Phi| (m or 1); drift_velocity max |G v|; energy J; "
-             "energy_rel_error (H - H0)/max(|H0|, 1 J)",
-             "t,h,order,drift_position,drift_velocity,energy,energy_rel_error"),
-      trajectory_(out_dir / "trajectory.csv", units_comment(problem), "t," + join(problem.output_names(), ",")),
       events_(out_dir / "events.csv",
               "# units: t s; margin |det B| of the chart left (chart_switch), 1; drift_position and "
               "drift_velocity just before a projection",
               "t,event,body,from,to,margin,drift_position,drift_velocity") {
+  start_is_output_ = time.output_times.empty() || time.output_times.front() == time.start;
+  const bool steps = output.record == RecordMode::Steps;
+  if (steps && output.step_format == StepFormat::Csv)
+    steps_ = std::make_unique<CsvStream>(
+        out_dir / "steps.csv",
+        "# units: t s; h s; drift_position max |Phi| (m or 1); drift_velocity max |G v|; energy J; "
+        "energy_rel_error (H - H0)/max(|H0|, 1 J)",
+        fmt::format("{}", fmt::join(std::begin(kStepColumns), std::end(kStepColumns), ",")));
+  else
+    remove_stale(out_dir / "steps.csv");
+  if (steps && output.step_format == StepFormat::Npy)
+    steps_npy_ = std::make_unique<NpyFile>(out_dir / "steps.npy", step_fields());
+  else
+    remove_stale(out_dir / "steps.npy");
+  if (output.record != RecordMode::None)
+    trajectory_ = std::make_unique<CsvStream>(out_dir / "trajectory.csv", units_comment(problem),
+                                              "t," + join(problem.output_names(), ","));
+  else
+    remove_stale(out_dir / "trajectory.csv");
   row_.resize(problem.output_names().size());
   const std::vector<std::string> names = problem.output_names();
   energy_column_ = static_cast<int>(std::find(names.begin(), names.end(), "energy") - names.begin());
@@ -61,17 +92,30 @@ void MultibodyRecorder::on_step(double t, double h, int order, const Eigen::Vect
   max_drift_velocity_ = std::max(max_drift_velocity_, vel);
   max_energy_error_ = std::max(max_energy_error_, std::abs(err));
   last_energy_ = H;
-  steps_.file().write(fmt::format("{},{},{},{},{},{},{}\n", t, h, order, pos, vel, H, err));
+  if (steps_) steps_->file().write(fmt::format("{},{},{},{},{},{},{}\n", t, h, order, pos, vel, H, err));
+  if (steps_npy_) {
+    struct Row {
+      double t, h;
+      std::int64_t order;
+      double pos, vel, H, err;
+    } row{t, h, order, pos, vel, H, err};
+    static_assert(sizeof(Row) == sizeof(kStepColumns) / sizeof(kStepColumns[0]) * 8, "packed as the fields say");
+    steps_npy_->write_row(reinterpret_cast<const char*>(&row));
+  }
 }
 
 void MultibodyRecorder::on_output(double t, const Eigen::VectorXd& y) {
+  const bool row = trajectory_ && (seen_start_ || start_is_output_);
+  seen_start_ = true;
+  if (!row && have_H0_) return;
   problem_.output_row(y.data(), row_.data());
   if (!have_H0_) H0_ = row_[energy_column_], have_H0_ = true;
+  if (!row) return;
   fmt::memory_buffer line;
   fmt::format_to(std::back_inserter(line), "{}", t);
   for (double v : row_) fmt::format_to(std::back_inserter(line), ",{}", v);
   line.push_back('\n');
-  trajectory_.file().write(line.data(), line.size());
+  trajectory_->file().write(line.data(), line.size());
 }
 
 void MultibodyRecorder::on_event(const EventNote& n) {
@@ -80,9 +124,26 @@ void MultibodyRecorder::on_event(const EventNote& n) {
 }
 
 void MultibodyRecorder::flush() {
-  steps_.flush();
-  trajectory_.flush();
+  if (steps_) steps_->flush();
+  if (steps_npy_) steps_npy_->flush();
+  if (trajectory_) trajectory_->flush();
   events_.flush();
+}
+
+void MultibodyRecorder::close() {
+  std::string first;
+  auto attempt = [&](auto&& close_one) {
+    try {
+      close_one();
+    } catch (const OutputError& e) {
+      if (first.empty()) first = e.what();
+    }
+  };
+  if (steps_) attempt([&] { steps_->close(); });
+  if (steps_npy_) attempt([&] { steps_npy_->close(); });
+  if (trajectory_) attempt([&] { trajectory_->close(); });
+  attempt([&] { events_.close(); });
+  if (!first.empty()) throw OutputError(first);
 }
 
 }  // namespace rigidae

@@ -22,20 +22,53 @@ CsvStream::CsvStream(const std::filesystem::path& path, const std::string& units
   stream_.write(fmt::format("{}\n{}\n", units_comment, header));
 }
 
+namespace {
+
+// Removes a previous run's file that this run does not write (a stale file
+// would pass for this run's).
+void remove_stale(const std::filesystem::path& path) {
+  std::error_code ec;
+  std::filesystem::remove(path, ec);
+}
+
+std::unique_ptr<CsvStream> csv_if(bool wanted, const std::filesystem::path& path, const std::string& units,
+                                  const std::string& header) {
+  if (!wanted) {
+    remove_stale(path);
+    return nullptr;
+  }
+  return std::make_unique<CsvStream>(path, units, header);
+}
+
+std::unique_ptr<NpyFile> npy_if(bool wanted, const std::filesystem::path& path, std::vector<NpyField> fields) {
+  if (!wanted) {
+    remove_stale(path);
+    return nullptr;
+  }
+  return std::make_unique<NpyFile>(path, std::move(fields));
+}
+
+}  // namespace
+
 RunRecorder::RunRecorder(const ChartState& problem, const Scene& scene, const std::filesystem::path& out_dir)
     : problem_(problem),
       multiplier_names_(problem.system().multiplier_names()),
       with_chart_(problem.representation().has_charts()),
       step_observer_(problem.system(), scene),
       grid_observer_(problem.system(), scene),
-      steps_(out_dir / "steps.csv", columns::units_line(),
-             columns::header(columns::kSteps, multiplier_names_, with_chart_)),
-      trajectory_(out_dir / "trajectory.csv", columns::units_line(),
-                  columns::header(columns::kTrajectory, multiplier_names_, with_chart_)),
+      steps_csv_(csv_if(scene.output.record == RecordMode::Steps && scene.output.step_format == StepFormat::Csv,
+                        out_dir / "steps.csv", columns::units_line(),
+                        columns::header(columns::kSteps, multiplier_names_, with_chart_))),
+      steps_npy_(npy_if(scene.output.record == RecordMode::Steps && scene.output.step_format == StepFormat::Npy,
+                        out_dir / "steps.npy", columns::npy_fields(columns::kSteps, multiplier_names_, with_chart_))),
+      trajectory_(csv_if(scene.output.record != RecordMode::None, out_dir / "trajectory.csv", columns::units_line(),
+                         columns::header(columns::kTrajectory, multiplier_names_, with_chart_))),
       events_(out_dir / "events.csv",
               "# units: t s; margin |det B| of the chart left (chart_switch), 1; drift_position |Phi| 1 and "
               "drift_velocity |dPhi/dt| 1/s just before a projection",
               "t,event,from,to,margin,drift_position,drift_velocity") {
+  const TimeGrid& g = scene.time;
+  start_is_output_ = g.output_times.empty() || g.output_times.front() == g.start;
   const int nm = static_cast<int>(multiplier_names_.size());
   extremes_.multiplier_min = Eigen::VectorXd::Constant(nm, std::numeric_limits<double>::infinity());
   extremes_.multiplier_max = Eigen::VectorXd::Constant(nm, -std::numeric_limits<double>::infinity());
@@ -47,17 +80,34 @@ void RunRecorder::write_row(CheckedStream& f, columns::File file, const columns:
   f.write(b.data(), b.size());
 }
 
+void RunRecorder::write_binary_row(NpyFile& f, const columns::Sample& sample) {
+  fmt::memory_buffer b;
+  columns::append_binary_row(b, columns::kSteps, sample, with_chart_);
+  f.write_row(b.data());
+}
+
 void RunRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& y) {
   const Observation o = step_observer_.observe(t, y, problem_.chart());
-  const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
-  write_row(steps_.file(), columns::kSteps, {t, h, order, &o, chart});
+  if (steps_csv_ || steps_npy_) {
+    const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
+    const columns::Sample sample{t, h, order, &o, chart};
+    if (steps_csv_)
+      write_row(steps_csv_->file(), columns::kSteps, sample);
+    else
+      write_binary_row(*steps_npy_, sample);
+  }
   extremes_.add_step(o);
 }
 
 void RunRecorder::on_output(double t, const Eigen::VectorXd& y) {
+  const bool row = trajectory_ && (seen_start_ || start_is_output_);
+  seen_start_ = true;
+  if (!row && extremes_.steps_recorded > 0) return;
   const Observation o = grid_observer_.observe(t, y, problem_.chart());
-  const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
-  write_row(trajectory_.file(), columns::kTrajectory, {t, 0.0, 0, &o, chart});
+  if (row) {
+    const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
+    write_row(trajectory_->file(), columns::kTrajectory, {t, 0.0, 0, &o, chart});
+  }
   if (extremes_.steps_recorded == 0) extremes_.last = o;
 }
 
@@ -69,18 +119,25 @@ void RunRecorder::on_event(const EventNote& e) {
 }
 
 void RunRecorder::flush() {
-  steps_.flush();
-  trajectory_.flush();
+  if (steps_csv_) steps_csv_->flush();
+  if (steps_npy_) steps_npy_->flush();
+  if (trajectory_) trajectory_->flush();
   events_.flush();
 }
 
 void RunRecorder::close() {
   std::string first;
-  for (CsvStream* f : {&steps_, &trajectory_, &events_}) try {
-      f->close();
+  auto attempt = [&](auto&& close_one) {
+    try {
+      close_one();
     } catch (const OutputError& e) {
       if (first.empty()) first = e.what();
     }
+  };
+  if (steps_csv_) attempt([&] { steps_csv_->close(); });
+  if (steps_npy_) attempt([&] { steps_npy_->close(); });
+  if (trajectory_) attempt([&] { trajectory_->close(); });
+  attempt([&] { events_.close(); });
   if (!first.empty()) throw OutputError(first);
 }
 

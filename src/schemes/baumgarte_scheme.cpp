@@ -76,9 +76,8 @@ class BaumgarteScheme final : public ConstraintScheme {
 
 }  // namespace
 
-std::unique_ptr<ConstraintScheme> make_baumgarte(const Scene& scene) {
-  const auto [a, b] = baumgarte_gains(scene);
-  return std::make_unique<BaumgarteScheme>(a, b);
+std::unique_ptr<ConstraintScheme> make_baumgarte(const SchemeSettings& settings) {
+  return std::make_unique<BaumgarteScheme>(settings.baumgarte_a, settings.baumgarte_b);
 }
 
 }  // namespace rigidae::schemes

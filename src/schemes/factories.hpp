@@ -6,11 +6,11 @@
 
 namespace rigidae::schemes {
 
-std::unique_ptr<ConstraintScheme> make_ggl(const Scene& scene);
-std::unique_ptr<ConstraintScheme> make_index1(const Scene& scene);
-std::unique_ptr<ConstraintScheme> make_index2(const Scene& scene);
-std::unique_ptr<ConstraintScheme> make_index3(const Scene& scene);
-std::unique_ptr<ConstraintScheme> make_baumgarte(const Scene& scene);
-std::unique_ptr<ConstraintScheme> make_projection(const Scene& scene);
+std::unique_ptr<ConstraintScheme> make_ggl(const SchemeSettings& settings);
+std::unique_ptr<ConstraintScheme> make_index1(const SchemeSettings& settings);
+std::unique_ptr<ConstraintScheme> make_index2(const SchemeSettings& settings);
+std::unique_ptr<ConstraintScheme> make_index3(const SchemeSettings& settings);
+std::unique_ptr<ConstraintScheme> make_baumgarte(const SchemeSettings& settings);
+std::unique_ptr<ConstraintScheme> make_projection(const SchemeSettings& settings);
 
 }  // namespace rigidae::schemes

@@ -44,6 +44,6 @@ class GglScheme final : public ConstraintScheme {
 
 }  // namespace
 
-std::unique_ptr<ConstraintScheme> make_ggl(const Scene& /*scene*/) { return std::make_unique<GglScheme>(); }
+std::unique_ptr<ConstraintScheme> make_ggl(const SchemeSettings& /*settings*/) { return std::make_unique<GglScheme>(); }
 
 }  // namespace rigidae::schemes

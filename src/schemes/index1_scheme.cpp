@@ -38,6 +38,6 @@ class Index1Scheme final : public ConstraintScheme {
 
 }  // namespace
 
-std::unique_ptr<ConstraintScheme> make_index1(const Scene& /*scene*/) { return std::make_unique<Index1Scheme>(); }
+std::unique_ptr<ConstraintScheme> make_index1(const SchemeSettings& /*settings*/) { return std::make_unique<Index1Scheme>(); }
 
 }  // namespace rigidae::schemes

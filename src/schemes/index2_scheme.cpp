@@ -41,6 +41,6 @@ class Index2Scheme final : public ConstraintScheme {
 
 }  // namespace
 
-std::unique_ptr<ConstraintScheme> make_index2(const Scene& /*scene*/) { return std::make_unique<Index2Scheme>(); }
+std::unique_ptr<ConstraintScheme> make_index2(const SchemeSettings& /*settings*/) { return std::make_unique<Index2Scheme>(); }
 
 }  // namespace rigidae::schemes

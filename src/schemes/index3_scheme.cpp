@@ -48,6 +48,6 @@ class Index3Scheme final : public ConstraintScheme {
 
 }  // namespace
 
-std::unique_ptr<ConstraintScheme> make_index3(const Scene& /*scene*/) { return std::make_unique<Index3Scheme>(); }
+std::unique_ptr<ConstraintScheme> make_index3(const SchemeSettings& /*settings*/) { return std::make_unique<Index3Scheme>(); }
 
 }  // namespace rigidae::schemes

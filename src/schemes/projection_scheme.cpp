@@ -47,12 +47,11 @@ class ProjectionScheme final : public ConstraintScheme {
 
 }  // namespace
 
-std::unique_ptr<ConstraintScheme> make_projection(const Scene& scene) {
-  const ProjectionSpec& spec = scene.formulation.projection;
+std::unique_ptr<ConstraintScheme> make_projection(const SchemeSettings& settings) {
   ProjectionPolicy p;
   p.enabled = true;
-  p.every_step = spec.every_step;
-  p.threshold = projection_threshold(scene);
+  p.every_step = settings.project_every_step;
+  p.threshold = settings.projection_threshold;
   return std::make_unique<ProjectionScheme>(p);
 }
 

@@ -193,6 +193,13 @@ std::optional<CrossProblem> cross_problem(const Scene& scene) {
     return CrossProblem{"time.output_step",
                         fmt::format("{} gives {:.3g} output intervals over {} s; at most {:g} are allowed",
                                     g.output_step, span / g.output_step, span, kMaxOutputIntervals)};
+  const std::vector<double>& times = g.output_times;
+  for (std::size_t i = 0; i < times.size(); ++i)
+    if (!(times[i] >= g.start && times[i] <= g.end) || (i > 0 && !(times[i] > times[i - 1])))
+      return CrossProblem{"output.times",
+                          fmt::format("[{}] must be strictly increasing times inside [time.start, time.end] = [{}, "
+                                      "{}] s ({} at position {} is not)",
+                                      fmt::join(times, ", "), g.start, g.end, times[i], i)};
   if (scene.solver.initial_step >= span)
     return CrossProblem{"solver.initial_step",
                         fmt::format("{} must be less than the time span end - start = {} s", scene.solver.initial_step,

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "rigidae/coords/representation.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/settings/settings.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
@@ -26,11 +27,12 @@ long long whole(const Value& v) { return std::get<long long>(v); }
 bool flag(const Value& v) { return std::get<bool>(v); }
 const std::string& word(const Value& v) { return std::get<std::string>(v); }
 
-std::vector<std::string> coordinates_names() { return {"euler", "quaternion", "linear"}; }
 std::vector<std::string> equations_names() { return {"lagrange", "euler"}; }
 std::vector<std::string> reference_names() { return {"auto", "exact", "tight"}; }
 std::vector<std::string> jacobian_names() { return {"exact", "central", "ida_dq"}; }
-std::vector<std::string> linear_solver_names() { return {"dense", "klu"}; }
+std::vector<std::string> linear_solver_names() { return {"auto", "dense", "klu"}; }
+std::vector<std::string> record_names() { return {"steps", "grid", "none"}; }
+std::vector<std::string> step_format_names() { return {"csv", "npy"}; }
 std::vector<std::string> projection_when_names() { return {"threshold", "every_step"}; }
 std::vector<std::string> sequence_names() {
   std::vector<std::string> v{"auto"};
@@ -38,8 +40,6 @@ std::vector<std::string> sequence_names() {
   return v;
 }
 
-constexpr std::array<Coordinates, 3> kCoordinates{Coordinates::EulerAngles, Coordinates::Quaternion,
-                                                  Coordinates::Linear};
 template <typename T, std::size_t N>
 T pick(const std::array<T, N>& values, std::vector<std::string> (*names)(), const std::string& w) {
   const std::vector<std::string> n = names();
@@ -54,7 +54,16 @@ std::string name_of(const std::array<T, N>& values, std::vector<std::string> (*n
   return names()[0];
 }
 constexpr std::array<Equations, 2> kEquations{Equations::Lagrange, Equations::Euler};
+constexpr std::array<RecordMode, 3> kRecordModes{RecordMode::Steps, RecordMode::Grid, RecordMode::None};
+constexpr std::array<StepFormat, 2> kStepFormats{StepFormat::Csv, StepFormat::Npy};
 constexpr std::array<ReferenceKind, 3> kReferences{ReferenceKind::Auto, ReferenceKind::Exact, ReferenceKind::Tight};
+
+// The coordinates' help reads the registry's phrases; the table keeps
+// string views, so the text lives here for the program's lifetime.
+std::string_view coordinates_help_text() {
+  static const std::string text = "rotation coordinates: " + coordinates_help();
+  return text;
+}
 
 constexpr std::string_view kRtolWhy =
     "below 1e-14 round-off in double precision exceeds the tolerance and the step size collapses";
@@ -66,10 +75,9 @@ std::vector<Setting> make_table() {
   // --- formulation --------------------------------------------------------
   row({.scene_key = "formulation.coordinates", .option = "--coordinates", .commands = kSolve, .kind = Kind::Choice,
        .choices = coordinates_names,
-       .help = "rotation coordinates: Euler angles (3, singular charts switched during the run), unit quaternions "
-               "(4, 1 constraint) or the 9 entries of R (6 constraints)",
-       .set = [](Scene& s, const Value& v) { s.formulation.coordinates = pick(kCoordinates, coordinates_names, word(v)); },
-       .get = [](const Scene& s) -> Value { return name_of(kCoordinates, coordinates_names, s.formulation.coordinates); }});
+       .help = coordinates_help_text(),
+       .set = [](Scene& s, const Value& v) { s.formulation.coordinates = Coordinates(word(v)); },
+       .get = [](const Scene& s) -> Value { return s.formulation.coordinates.name(); }});
   row({.scene_key = "formulation.equations", .option = "--equations", .commands = kSolve, .kind = Kind::Choice,
        .choices = equations_names,
        .help = "Lagrange form (mass matrix in the coordinates) or Euler form (body angular velocity states and "
@@ -164,7 +172,8 @@ std::vector<Setting> make_table() {
        .get = [](const Scene& s) -> Value { return s.solver.jacobian; }});
   row({.scene_key = "solver.linear_solver", .option = "--linear-solver", .commands = kRun, .kind = Kind::Choice,
        .choices = linear_solver_names,
-       .help = "Newton's linear solver: dense LU or KLU sparse LU (not with --jacobian ida_dq)",
+       .help = "Newton's linear solver: auto (KLU from 200 unknowns on, a measured size; dense below and with "
+               "--jacobian ida_dq), dense LU or KLU sparse LU (not with --jacobian ida_dq)",
        .set = [](Scene& s, const Value& v) { s.solver.linear_solver = word(v); },
        .get = [](const Scene& s) -> Value { return s.solver.linear_solver; }});
   // Which integrator runs which schemes: solver/integrators.hpp (checked in cross_problem).
@@ -202,6 +211,20 @@ std::vector<Setting> make_table() {
        .set = [](Scene& s, const Value& v) { s.time.output_step = real(v); },
        .get = [](const Scene& s) -> Value { return s.time.output_step; }});
 
+  // --- output (output.times, an array, is read by the scene loader) ---------
+  row({.scene_key = "output.record", .option = "--record", .commands = kSolve, .kind = Kind::Choice,
+       .choices = record_names,
+       .help = "what is written besides summary.json: 'steps' every step (steps.csv or .npy) and the output grid "
+               "(trajectory.csv), 'grid' the output grid only, 'none' neither (events.csv stays)",
+       .set = [](Scene& s, const Value& v) { s.output.record = pick(kRecordModes, record_names, word(v)); },
+       .get = [](const Scene& s) -> Value { return name_of(kRecordModes, record_names, s.output.record); }});
+  row({.scene_key = "output.step_format", .option = "--step-format", .commands = kSolve, .kind = Kind::Choice,
+       .choices = step_format_names,
+       .help = "format of the step file: 'csv' (steps.csv) or 'npy' (steps.npy, NumPy's binary format: a "
+               "structured array with the CSV's column names, read by numpy.load)",
+       .set = [](Scene& s, const Value& v) { s.output.step_format = pick(kStepFormats, step_format_names, word(v)); },
+       .get = [](const Scene& s) -> Value { return name_of(kStepFormats, step_format_names, s.output.step_format); }});
+
   // --- reference ----------------------------------------------------------
   row({.scene_key = "reference", .study_key = "reference", .option = "--reference", .commands = kCompare,
        .kind = Kind::Choice, .choices = reference_names,
@@ -236,8 +259,14 @@ std::vector<Setting> make_table() {
   row({.option = "--out", .commands = kSolve | kCompare | kStudy, .kind = Kind::Text, .metavar = "DIR",
        .default_text = "out/NAME-COORDINATES-EQUATIONS-SCHEME, out/NAME-compare, out/STUDY_NAME",
        .help = "output folder"});
-  row({.option = "--plot", .commands = kCompare, .kind = Kind::Boolean, .flag_value = "true", .default_text = "off",
-       .help = "draw figures with tools/plot_compare.py into DIR/figures"});
+  row({.option = "--error-estimate", .commands = kSolve, .kind = Kind::Boolean, .flag_value = "true",
+       .default_text = "off",
+       .help = "run the scene again at rtol/100 and atol/100 (into DIR/error_estimate) and report the orientation "
+               "difference on the output grid as an estimate of the global error, beside the closed-form error "
+               "when the scene has one (needs --record steps or grid)"});
+  row({.option = "--plot", .commands = kSolve | kCompare, .kind = Kind::Boolean, .flag_value = "true",
+       .default_text = "off",
+       .help = "draw figures into DIR/figures (PNG and PDF) with tools/plot_solve.py or tools/plot_compare.py"});
   row({.option = "--keep-steps", .commands = kCompare | kStudy, .kind = Kind::Boolean, .flag_value = "true",
        .default_text = "off",
        .help = "keep each run's steps.csv (otherwise only summary.json, trajectory.csv and events.csv stay; "

@@ -39,6 +39,10 @@ std::string to_string(RunStatus s) {
 }
 
 OutputGrid::OutputGrid(const TimeGrid& grid) : grid_(grid) {
+  if (!grid.output_times.empty()) {  // given times: exactly those
+    n_inner_ = grid.output_times.size() - 1;
+    return;
+  }
   const double span = grid.end - grid.start;
   const long n = static_cast<long>(std::floor(span / grid.output_step * (1 + 1e-12)));
   // Points start + k step for k = 0..n, less any that falls on (or within
@@ -50,6 +54,7 @@ OutputGrid::OutputGrid(const TimeGrid& grid) : grid_(grid) {
 }
 
 double OutputGrid::operator[](std::size_t k) const {
+  if (!grid_.output_times.empty()) return grid_.output_times[k];
   return k < n_inner_ ? grid_.start + static_cast<double>(k) * grid_.output_step : grid_.end;
 }
 
@@ -84,6 +89,10 @@ struct IdaSession {
     dky = sun::new_serial_vector(n, ctx);
     A = nnz > 0 ? SUNSparseMatrix(n, n, nnz, CSC_MAT, ctx) : SUNDenseMatrix(n, n, ctx);
     LS = !A ? nullptr : nnz > 0 ? SUNLinSol_KLU(y, A, ctx) : sun::new_dense_lu_solver(y, A, ctx);
+    // KLU's fill-reducing ordering: AMD on A + A^T, not SUNDIALS' default
+    // COLAMD, whose fill on the multibody saddle-point matrices grew faster
+    // than the number of bodies (docs/benchmarks.md, "N-link chain").
+    if (LS && nnz > 0) SUNLinSol_KLUSetOrdering(LS, 0);
     mem = IDACreate(ctx);
     if (!y || !yp || !id || !atol || !dky || !A || !LS || !mem) throw SolverError("out of memory creating IDA");
   }
@@ -354,8 +363,8 @@ void IdaRun::start() {
   check(IDASetInitStep(mem, h0), "IDASetInitStep");
   if (problem_.event_count() > 0) check(IDARootInit(mem, problem_.event_count(), event_callback), "IDARootInit");
 
-  sink_.on_output(t_, y_);
-  next_out_ = 1;
+  sink_.on_output(t_, y_);  // the start, always (a recorder writes it when it is an output time)
+  next_out_ = grid_[0] <= t_ ? 1 : 0;
 }
 
 bool IdaRun::running() {
@@ -478,15 +487,24 @@ RunResult IdaRun::finish() {
   if (differences_) result_.counters.jacobian_residual_evals += differences_->residual_evaluations();
   IDAGetLastStep(ida_.mem, &result_.counters.last_step);
   IDAGetLastOrder(ida_.mem, &result_.counters.last_order);
+  result_.linear_solver = opt_.linear_solver;
   return result_;
 }
 
 }  // namespace
 
-RunResult integrate(DaeProblem& problem, const SolverSettings& settings, const TimeGrid& time, StepSink& sink) {
-  if (settings.linear_solver == "klu" && settings.jacobian == "ida_dq")
+std::string resolve_linear_solver(const SolverSettings& settings, const DaeProblem& problem) {
+  if (settings.linear_solver != "auto") return settings.linear_solver;
+  if (settings.jacobian == "ida_dq") return "dense";
+  return problem.size() >= kKluFromUnknowns ? "klu" : "dense";
+}
+
+RunResult integrate(DaeProblem& problem, const SolverSettings& requested, const TimeGrid& time, StepSink& sink) {
+  if (requested.linear_solver == "klu" && requested.jacobian == "ida_dq")
     throw InputError("solver.linear_solver = \"klu\" needs solver.jacobian = \"exact\" or \"central\": IDA's "
                      "difference quotients fill dense and banded matrices only");
+  SolverSettings settings = requested;
+  settings.linear_solver = resolve_linear_solver(requested, problem);
   IdaRun run(problem, settings, time, sink);
   run.start();
   while (run.running()) {

@@ -87,7 +87,9 @@ def test_every_cli_scene_option_is_a_keyword():
     code, out, _ = run_cli("solve", "--help")
     assert code == 0
     cli_options = set(re.findall(r"^\s+(?:-h, )?--([a-z][a-z-]+)", out, re.M))
-    own = {"out", "quiet", "help"}  # the command's own: out= and record= in Python
+    # The command's own: out= and record= in Python; --error-estimate is a second run, not a setting;
+    # figures: CLI only.
+    own = {"out", "quiet", "help", "record", "error-estimate", "plot"}
     assert {o.replace("-", "_") for o in cli_options - own} == set(rigidae.OPTIONS)
     doc = rigidae.solve.__doc__
     for name in rigidae.OPTIONS:

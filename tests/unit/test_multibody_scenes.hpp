@@ -74,7 +74,8 @@ inline JointSpec joint_at(const MultibodySpec& m, JointType type, int a, int b, 
 
 // Two asymmetric bodies, the first joined to the ground and the second to
 // the first by joints of `type`, with a spring between them and loads of
-// every kind: no symmetry hides a wrong sign.
+// every kind (revolute joints: torsional spring-dampers too): no symmetry
+// hides a wrong sign.
 inline Scene two_body_chain(JointType type, Coordinates c, Equations e, const std::string& scheme) {
   Scene s = multibody_base(c, e, scheme);
   MultibodySpec& m = *s.multibody;
@@ -103,6 +104,15 @@ inline Scene two_body_chain(JointType type, Coordinates c, Equations e, const st
   const Vec3 z2 = Vec3(1.0, -0.4, 0.2).normalized();
   const Vec3 n2 = z2.cross(Vec3::UnitZ()).normalized();
   m.joints.push_back(joint_at(m, type, 0, 1, Vec3(0.5, 0.1, -0.8), z2, n2, "j1"));
+  if (type == JointType::Revolute) {
+    // Torsional spring-dampers, wound at the start (rest angles not zero).
+    m.joints[0].torsion_stiffness = 3.0;
+    m.joints[0].torsion_damping = 0.4;
+    m.joints[0].torsion_rest_angle = 0.6;
+    m.joints[1].torsion_stiffness = 5.0;
+    m.joints[1].torsion_damping = 0.7;
+    m.joints[1].torsion_rest_angle = -2.5;
+  }
   SpringSpec sp;
   sp.name = "spring";
   sp.body_a = 0;

@@ -34,7 +34,7 @@ Scene heavy_top(Coordinates c, Equations e, const std::string& scheme, double to
   return s;
 }
 
-constexpr Coordinates kConstrained[] = {Coordinates::Quaternion, Coordinates::Linear};
+const Coordinates kConstrained[] = {Coordinates::Quaternion, Coordinates::Linear};
 
 }  // namespace
 

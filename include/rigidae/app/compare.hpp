@@ -19,7 +19,7 @@
 
 namespace rigidae {
 
-// A single body in Euler angles carries no constraint, so every scheme gives
+// A single body in coordinates without constraints (Euler angles) carries none, so every scheme gives
 // it the same ODE: it appears once per equation form, with scheme "any". In a
 // multibody scene the joints are constraints whatever the coordinates, so
 // every coordinates x equations x scheme runs.

@@ -125,16 +125,28 @@ class Representation {
 // InputError naming the valid names for an unknown one.
 std::unique_ptr<Representation> make_representation(const std::string& name, const RigidBodyModel& body,
                                                     const so3::EulerSequence& start_chart);
-// Every registered name, in the registry's order.
+// Every registered name, in the registry's order: "<coordinates>/<form>".
 std::vector<std::string> representation_names();
 // The registry name of a (coordinates, equations) pair.
-std::string representation_name(Coordinates c, Equations e);
+std::string representation_name(const Coordinates& c, Equations e);
+
+// The registered coordinates ("euler", "quaternion", "linear"), in the
+// registry's order: the valid values of formulation.coordinates, of
+// --coordinates and of a multibody body's `coordinates`.
+std::vector<std::string> coordinates_names();
+std::vector<Coordinates> all_coordinates();
+// Whether the coordinates carry position constraints (Phi(q) = 0): all but
+// Euler angles. Throws InputError for a name not in the registry.
+bool has_constraints(const Coordinates& c);
+// What each registered set of coordinates is, one phrase each, joined for
+// --help: "Euler angles (3, ...), unit quaternions (4, 1 constraint) or ...".
+std::string coordinates_help();
 // The representation a scene's formulation names, in the chart it starts in
 // (the scene's sequence, or the most regular at the initial orientation).
 std::unique_ptr<Representation> make_representation(const Scene& scene, const RigidBodyModel& body);
 
 // Names for messages and reports.
-std::string to_string(Coordinates c);
+std::string to_string(const Coordinates& c);
 std::string to_string(Equations e);
 
 }  // namespace rigidae

@@ -5,6 +5,7 @@
 // study files (which override them) and the integrator (which reads them and
 // nothing else of the scene). Units are SI.
 #include <string>
+#include <vector>
 
 namespace rigidae {
 
@@ -27,10 +28,11 @@ struct SolverSettings {
   // "ida_dq" (IDA's own forward difference quotients). Same steps, far fewer
   // residual evaluations with "exact" (docs/ida_settings.md).
   std::string jacobian = "exact";
-  // Linear solver for Newton's systems: "dense" (SUNDIALS' dense LU, best for
-  // the <= 30 unknowns here) or "klu" (sparse LU on the iteration
-  // matrix's structural pattern; not with "ida_dq").
-  std::string linear_solver = "dense";
+  // Linear solver for Newton's systems: "dense" (SUNDIALS' dense LU),
+  // "klu" (sparse LU on the iteration matrix's structural pattern; not with
+  // "ida_dq") or "auto" (KLU from kKluFromUnknowns unknowns on, a measured
+  // size: solver/ida_driver.hpp; single bodies have <= 30 and stay dense).
+  std::string linear_solver = "auto";
   // Integrator and explicit Runge-Kutta table (solver/integrators.hpp
   // lists the valid values and which schemes each integrator runs).
   std::string integrator = "ida";
@@ -43,9 +45,31 @@ inline constexpr double kMaxTimeMagnitude = 1e9;  // s
 inline constexpr double kMaxOutputIntervals = 1e8;
 
 struct TimeGrid {
+  TimeGrid() = default;
+  // The even grid (the usual case; `{start, end, step}` reads as before output_times existed).
+  TimeGrid(double start_s, double end_s, double output_step_s)
+      : start(start_s), end(end_s), output_step(output_step_s) {}
+
   double start = 0.0;          // s
   double end = 1.0;            // s, > start
   double output_step = 0.01;   // s, > 0; grid = start, start + k step, ..., end (end always included)
+  // Output at these times instead of the even grid (scene key output.times):
+  // strictly increasing, inside [start, end]. Empty: the even grid.
+  std::vector<double> output_times;
+};
+
+// What a run writes besides summary.json (always written):
+//   Steps  every accepted step (steps.csv or steps.npy) and the output grid (trajectory.csv)
+//   Grid   the output grid only
+//   None   neither (events.csv, a few rows, stays)
+enum class RecordMode { Steps, Grid, None };
+// The step file's format: text (steps.csv) or NumPy's binary .npy (steps.npy,
+// a structured array whose field names are the CSV's header).
+enum class StepFormat { Csv, Npy };
+
+struct OutputSettings {
+  RecordMode record = RecordMode::Steps;
+  StepFormat step_format = StepFormat::Csv;
 };
 
 }  // namespace rigidae

@@ -29,7 +29,9 @@ struct ConstraintDrift {
 // scratch lives on the stack of each call (fixed-size, no allocation).
 class DaeSystem {
  public:
-  DaeSystem(const Scene& scene, std::unique_ptr<Representation> rep, std::unique_ptr<ConstraintScheme> scheme);
+  // The body, its equations in the chart the run starts in, and the scheme:
+  // nothing else of the scene.
+  DaeSystem(RigidBodyModel body, std::unique_ptr<Representation> rep, std::unique_ptr<ConstraintScheme> scheme);
 
   const UnknownLayout& layout() const { return layout_; }
   int size() const { return layout_.size(); }

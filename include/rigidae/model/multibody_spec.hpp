@@ -18,10 +18,9 @@
 #include <vector>
 
 #include "rigidae/core/types.hpp"
+#include "rigidae/model/coordinates.hpp"
 
 namespace rigidae {
-
-enum class Coordinates;  // model/scene.hpp
 
 // Index of the ground in joint and force body references.
 inline constexpr int kGround = -1;

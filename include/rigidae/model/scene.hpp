@@ -11,13 +11,13 @@
 
 #include "rigidae/core/run_settings.hpp"
 #include "rigidae/core/types.hpp"
+#include "rigidae/model/coordinates.hpp"
 #include "rigidae/model/multibody_spec.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
 
 namespace rigidae {
 
 enum class Support { FixedPoint, Free };
-enum class Coordinates { EulerAngles, Quaternion, Linear };
 enum class Equations { Lagrange, Euler };
 enum class AngularVelocityFrame { Body, Space };
 // What accuracy is measured against: the closed-form solution (exact/) when
@@ -53,7 +53,7 @@ struct ProjectionSpec {
 };
 
 struct Formulation {
-  Coordinates coordinates = Coordinates::Quaternion;
+  Coordinates coordinates = Coordinates::Quaternion;  // a name in the representation registry
   Equations equations = Equations::Lagrange;
   std::string scheme = "ggl";  // name in the scheme registry
   EulerChartSpec euler;        // used only with Coordinates::EulerAngles
@@ -71,6 +71,7 @@ struct Scene {
   Mat3 R0_WB = Mat3::Identity();       // initial orientation, an exact rotation after loading
   Vec3 omega0_B = Vec3::Zero();        // rad/s, initial angular velocity in body components
   TimeGrid time;
+  OutputSettings output;  // what is recorded, in which format
   Formulation formulation;
   SolverSettings solver;
   ReferenceKind reference = ReferenceKind::Auto;  // for compare and study

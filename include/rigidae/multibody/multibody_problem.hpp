@@ -70,6 +70,18 @@ struct ConstraintBlock {
   int body_of_side[2] = {kGround, kGround};
 };
 
+// A revolute joint's torsional spring-damper (src/multibody/torsion.cpp):
+// the angle's cosine and sine as two dot-product rows, and the branch of the
+// angle at the last accepted step.
+struct TorsionSpring {
+  int joint = -1;
+  int body[2] = {kGround, kGround};
+  double stiffness = 0.0, damping = 0.0, rest_angle = 0.0;  // N m/rad, N m s/rad, rad
+  ConstraintRow rows[2];
+  double reference = 0.0;  // rad
+};
+std::vector<TorsionSpring> torsion_springs(const MultibodySpec& spec);
+
 // Reaction of a joint on its body b (on a when b is the ground), in space:
 // the force at b's joint point (N) and the torque about that point (N m).
 struct JointReaction {
@@ -149,6 +161,13 @@ class MultibodyProblem final : public DaeProblem {
   void assemble_jacobian(double t, double cj, const double* y, const double* yp, JacobianSink& sink);
   void add_forces(const double* y, double* F);
   void add_force_jacobian(const double* y, JacobianSink& sink);
+  BlockSides torsion_sides(const TorsionSpring& ts) const;
+  double torsion_angle(const TorsionSpring& ts, const BlockEval& e) const;
+  void add_torsion_forces(double* F);
+  void add_torsion_jacobian(JacobianSink& sink);
+  // After an accepted step: each torsion angle's branch follows the motion.
+  void follow_torsion_angles();
+  double torsion_potential_energy();
   // Force blocks' G (rows: their lambdas in order) over all velocities, and
   // stacked positions Phi, at the last evaluate().
   void constraint_matrices(Eigen::SparseMatrix<double>& G, Eigen::VectorXd& phi, std::vector<int>* row_block,
@@ -166,6 +185,7 @@ class MultibodyProblem final : public DaeProblem {
   std::vector<BodyModel> bodies_;
   std::vector<ConstraintBlock> blocks_;
   std::vector<UnknownGroup> groups_;
+  std::vector<int> block_of_joint_;   // index in blocks_ of joint j (-1: no multipliers)
   std::vector<int> velocity_offset_;  // of body i's v in the stacked velocities
   int nv_total_ = 0;
   int n_ = 0;
@@ -175,6 +195,8 @@ class MultibodyProblem final : public DaeProblem {
   std::unique_ptr<JacobianSink> sink_;
   std::vector<BodyWork> work_;
   std::vector<BlockEval> block_eval_;
+  std::vector<TorsionSpring> torsions_;
+  BlockEval torsion_eval_;
   Eigen::VectorXd y0_, yp0_;
   std::vector<std::string> warnings_;
   std::vector<EventNote> events_;

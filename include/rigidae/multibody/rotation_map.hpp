@@ -16,11 +16,10 @@
 #include <memory>
 
 #include "rigidae/core/types.hpp"
+#include "rigidae/model/coordinates.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
 
 namespace rigidae {
-
-enum class Coordinates;
 
 namespace multibody {
 
@@ -45,7 +44,7 @@ class RotationMap {
   virtual void set_sequence(const so3::EulerSequence& /*seq*/) {}
 };
 
-std::unique_ptr<RotationMap> make_rotation_map(Coordinates c, const so3::EulerSequence& seq);
+std::unique_ptr<RotationMap> make_rotation_map(const Coordinates& c, const so3::EulerSequence& seq);
 
 }  // namespace multibody
 }  // namespace rigidae

@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "rigidae/record/npy_file.hpp"
 #include "rigidae/record/observation.hpp"
 
 namespace rigidae::columns {
@@ -52,6 +53,13 @@ std::string units_line();
 std::string header(File file, const std::vector<std::string>& multiplier_names, bool with_chart);
 // Appends one row of `file` (with its newline) to b; allocates nothing.
 void append_row(fmt::memory_buffer& b, File file, const Sample& s, bool with_chart);
+
+// The binary step file (steps.npy): the fields of `file` in header order,
+// Real and multiplier columns '<f8', Integer '<i8', the chart '|S8'.
+inline constexpr std::size_t kChartBytes = 8;
+std::vector<NpyField> npy_fields(File file, const std::vector<std::string>& multiplier_names, bool with_chart);
+// Appends one such row (packed, little-endian) to b; allocates nothing.
+void append_binary_row(fmt::memory_buffer& b, File file, const Sample& s, bool with_chart);
 
 // Multiplier columns by their prefix: "lambda_" a force (J), "mu_" a kinematic one (1/s).
 bool is_multiplier(std::string_view header_name);

@@ -2,12 +2,15 @@
 // Streams a multibody run to disk: trajectory.csv on the output grid (one
 // column per quantity, named BODY.qw, JOINT.force_x, ...; see
 // MultibodyProblem::output_names), steps.csv per accepted step (step size,
-// order, constraint drift, energy error) and events.csv (chart switches per
-// body, projections).
+// order, constraint drift, energy error; or steps.npy, the same rows in
+// NumPy's format) and events.csv (chart switches per body, projections); the
+// output settings say which (record/recorder.hpp).
 #include <filesystem>
+#include <memory>
 #include <vector>
 
 #include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/record/npy_file.hpp"
 #include "rigidae/record/recorder.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 
@@ -15,11 +18,17 @@ namespace rigidae {
 
 class MultibodyRecorder final : public StepSink {
  public:
-  MultibodyRecorder(multibody::MultibodyProblem& problem, const std::filesystem::path& out_dir);
+  // `time`: the run's grid (the start is reported first, always, and is a row
+  // of trajectory.csv only when it is an output time).
+  MultibodyRecorder(multibody::MultibodyProblem& problem, const std::filesystem::path& out_dir,
+                    const OutputSettings& output = {}, const TimeGrid& time = {});
   void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
   void on_output(double t, const Eigen::VectorXd& y) override;
   void on_event(const EventNote& note) override;
   void flush();
+  // Flushes, syncs and closes every file (the .npy header gets its row count);
+  // throws OutputError naming the first that fails.
+  void close();
 
   long steps_recorded() const { return steps_recorded_; }
   double max_drift_position() const { return max_drift_position_; }
@@ -30,11 +39,14 @@ class MultibodyRecorder final : public StepSink {
 
  private:
   multibody::MultibodyProblem& problem_;
-  CsvStream steps_, trajectory_, events_;
+  std::unique_ptr<CsvStream> steps_, trajectory_;
+  std::unique_ptr<NpyFile> steps_npy_;
+  CsvStream events_;
   std::vector<double> row_;
   int energy_column_ = 0;
   double H0_ = 0.0, last_energy_ = 0.0;
   bool have_H0_ = false;
+  bool start_is_output_ = true, seen_start_ = false;
   long steps_recorded_ = 0;
   double max_drift_position_ = 0.0, max_drift_velocity_ = 0.0, max_energy_error_ = 0.0;
 };

@@ -1,23 +1,28 @@
 #pragma once
 // Streams a run to disk as it happens and keeps its extremes.
 //
-// Files in the output folder:
-//   steps.csv       one row per accepted IDA step
-//   trajectory.csv  one row per output-grid point
-//   events.csv      one row per Euler-angle chart switch or projection
+// Files in the output folder (scene.output says which):
+//   steps.csv       one row per accepted step (record = steps, step_format = csv)
+//   steps.npy       the same rows in NumPy's binary format (step_format = npy)
+//   trajectory.csv  one row per output-grid point (record = steps or grid)
+//   events.csv      one row per Euler-angle chart switch or projection (always)
 // Rows go through a large write buffer (no history is held in memory), and
-// the files are flushed when the run ends, however it ends.
+// the files are flushed when the run ends, however it ends. Every step is
+// observed whatever is recorded: the extremes (summary.json, the accuracy
+// check) need each one.
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "rigidae/io/checked_file.hpp"
 #include "rigidae/record/columns.hpp"
+#include "rigidae/record/npy_file.hpp"
 #include "rigidae/dae/chart_state.hpp"
 #include "rigidae/record/observation.hpp"
 #include "rigidae/solver/ida_driver.hpp"
@@ -68,14 +73,15 @@ class RecordingSink : public StepSink {
 
 class RunRecorder final : public RecordingSink {
  public:
-  // Observes the problem's states in its current chart.
+  // Observes the problem's states in its current chart; writes what
+  // scene.output asks for (and removes a previous run's files it does not write).
   RunRecorder(const ChartState& problem, const Scene& scene, const std::filesystem::path& out_dir);
 
   void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
   void on_output(double t, const Eigen::VectorXd& y) override;
   void on_event(const EventNote& note) override;
   void flush();
-  // Flushes, syncs and closes the three files; throws OutputError naming the
+  // Flushes, syncs and closes the files; throws OutputError naming the
   // first that fails (the others are still closed).
   void close();
 
@@ -85,13 +91,20 @@ class RunRecorder final : public RecordingSink {
  private:
   // One row of `file` from the table of columns (record/columns.hpp).
   void write_row(CheckedStream& f, columns::File file, const columns::Sample& sample);
+  void write_binary_row(NpyFile& f, const columns::Sample& sample);
 
   const ChartState& problem_;
   std::vector<std::string> multiplier_names_;
   bool with_chart_;
   Observer step_observer_, grid_observer_;
-  CsvStream steps_, trajectory_, events_;
+  std::unique_ptr<CsvStream> steps_csv_;  // at most one of the two step files
+  std::unique_ptr<NpyFile> steps_npy_;
+  std::unique_ptr<CsvStream> trajectory_;
+  CsvStream events_;
   RunExtremes extremes_;
+  // The integrators report the start first, always; it is a row of
+  // trajectory.csv only when it is an output time (output.times may leave it out).
+  bool start_is_output_ = true, seen_start_ = false;
 };
 
 }  // namespace rigidae

@@ -115,8 +115,18 @@ class ConstraintScheme {
   virtual VecC rate_target(const StandardTerms& terms) const;
 };
 
+// What the schemes read of a run's settings, defaults resolved: a scheme's
+// factory receives this, not the scene.
+struct SchemeSettings {
+  double baumgarte_a = 1.0, baumgarte_b = 1.0;  // 1/s (baumgarte)
+  bool project_every_step = false;              // projection
+  double projection_threshold = 0.0;            // projection: on |Phi| and |G v| (or |dPhi/dt|)
+};
+// A scene's, with the defaults of baumgarte_gains and projection_threshold (model/scene.hpp).
+SchemeSettings scheme_settings(const Scene& scene);
+
 // The registered schemes, by name.
-std::unique_ptr<ConstraintScheme> make_scheme(const std::string& name, const Scene& scene);
+std::unique_ptr<ConstraintScheme> make_scheme(const std::string& name, const SchemeSettings& settings);
 // Every registered name, in the registry's order.
 std::vector<std::string> scheme_names();
 

@@ -53,6 +53,7 @@ struct RunResult {
   long switch_count = 0;                // every chart switch (events.csv lists them all)
   std::vector<ChartSwitch> switches;    // the first kSwitchesKept of them
   double initial_residual = 0.0;  // max |F(t0, y0, y0')|: the consistency of the start
+  std::string linear_solver;      // the one Newton used: "dense" or "klu" ("auto" resolved)
 };
 
 // Receives the run as it happens.
@@ -70,13 +71,22 @@ class StepSink {
 // Set to true (e.g. from a SIGINT handler) to stop the run between steps.
 extern std::atomic<bool> g_interrupt_requested;
 
+// solver.linear_solver = "auto": KLU from this many unknowns on, dense LU
+// below (measured on N-link chains: bench/chain.sh --solvers dense,klu and
+// docs/benchmarks.md, "Dense or KLU"), and dense whenever KLU cannot run
+// (IDA's difference quotients fill dense matrices only).
+inline constexpr int kKluFromUnknowns = 200;
+// "dense" or "klu": the linear solver a run of `problem` with `settings` uses.
+std::string resolve_linear_solver(const SolverSettings& settings, const DaeProblem& problem);
+
 // Runs the problem over the time grid. Never throws for solver trouble: the
 // result says what happened. Throws InputError for an impossible start or
 // settings IDA cannot combine.
 RunResult integrate(DaeProblem& problem, const SolverSettings& settings, const TimeGrid& time, StepSink& sink);
 
 // The output grid: start, start + k step, ..., and end exactly, computed
-// point by point (a run of 1e8 output intervals must not hold them all).
+// point by point (a run of 1e8 output intervals must not hold them all); or,
+// when the TimeGrid gives output_times, exactly those times.
 class OutputGrid {
  public:
   explicit OutputGrid(const TimeGrid& grid);

@@ -1,0 +1,68 @@
+#!/usr/bin/python3
+"""Table, log-log slope and figure of bench/chain.sh's lines.
+
+    /usr/bin/python3 bench/chain_report.py RESULTS.jsonl [--figure docs/figures/benchmarks_chain.png]
+
+Prints a Markdown table (one row per N and linear solver: unknowns,
+nonzeros, steps, residual evaluations per step, median wall and CPU time per
+step, peak resident memory) and, per linear solver, the least-squares slope
+of log(time per step) against log(N) over N >= 10 (wall and CPU), then
+draws time per step against N on log-log axes.
+"""
+import argparse
+import json
+import math
+
+
+def slope(points):
+    xs = [math.log(n) for n, _ in points]
+    ys = [math.log(t) for _, t in points]
+    mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
+    return sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("results")
+    ap.add_argument("--figure")
+    args = ap.parse_args()
+    rows = [json.loads(line) for line in open(args.results) if line.strip()]
+    print("| N | linear solver | unknowns | nonzeros | steps | residuals/step | wall ms/step (median) "
+          "| CPU ms/step (median) | peak RSS (MB) |")
+    print("|---:|---|---:|---:|---:|---:|---:|---:|---:|")
+    for r in rows:
+        print(f"| {r['links']} | {r['linear_solver']} ({r['solver_setting']}) | {r['unknowns']} | {r['nonzeros']} "
+              f"| {r['steps']} | {r['residuals_per_step']:.2f} | {r['ms_per_step']:.3g} | {r['cpu_ms_per_step']:.3g} "
+              f"| {r['max_rss_kb'] / 1024:.1f} |")
+    by_setting = {}
+    for r in rows:
+        by_setting.setdefault(r["solver_setting"], []).append(r)
+    print()
+    for setting, rs in by_setting.items():
+        big = [r for r in rs if r["links"] >= 10]
+        if len(big) >= 2:
+            print(f"{setting}: log-log slope over N >= 10: wall {slope([(r['links'], r['ms_per_step']) for r in big]):.2f}, "
+                  f"CPU {slope([(r['links'], r['cpu_ms_per_step']) for r in big]):.2f}")
+    if args.figure:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(figsize=(6, 4))
+        for setting, rs in by_setting.items():
+            n = [r["links"] for r in rs]
+            ax.loglog(n, [r["ms_per_step"] for r in rs], "o-", label=f"{setting}: wall (median)")
+            ax.loglog(n, [r["cpu_ms_per_step"] for r in rs], "s--", label=f"{setting}: CPU (median)")
+        n = sorted({r["links"] for r in rows})
+        ref = [r for r in rows if r["links"] == n[0]][0]["cpu_ms_per_step"]
+        ax.loglog(n, [ref * x / n[0] for x in n], "k:", label="linear in N")
+        ax.set_xlabel("links N")
+        ax.set_ylabel("time per step (ms)")
+        ax.set_title("N-link spherical chain, quaternion/euler/ggl, rtol 1e-8")
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(args.figure, dpi=120)
+        print(f"\nfigure: {args.figure}")
+
+
+if __name__ == "__main__":
+    main()
