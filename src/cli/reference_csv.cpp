@@ -21,7 +21,9 @@ void put(std::string& s, double x) {
 }  // namespace
 
 void write_reference_csv(const ReferenceTrajectory& ref, const std::filesystem::path& path) {
-  if (!ref.ok || ref.t.empty()) return;
+  // A multibody reference holds its grid per body (ref.bodies): the figures
+  // read the tight run's own trajectory.csv (reference/) instead.
+  if (!ref.ok || ref.t.empty() || ref.multibody) return;
   std::string s = fmt::format(
       "# units: t s; qw..qz unit quaternion of R_WB (body to space, scalar first); omega_* rad/s body frame; "
       "reference: {}\n",
