@@ -121,7 +121,8 @@ void DaeSystem::make_consistent(int chart, double t, Eigen::VectorXd& y, Eigen::
 Eigen::VectorXd DaeSystem::differential_id() const {
   Eigen::VectorXd id = Eigen::VectorXd::Zero(layout_.size());
   id.head(layout_.nq + layout_.nv).setOnes();
-  if (scheme_->suppress_velocity_error_test(representation())) id.segment(layout_.v_offset(), layout_.nv).setZero();
+  if (scheme_->suppress_velocity_error_test(representation().constraint_kind()))
+    id.segment(layout_.v_offset(), layout_.nv).setZero();
   return id;
 }
 

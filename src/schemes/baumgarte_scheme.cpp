@@ -11,8 +11,6 @@
 #include <fmt/format.h>
 
 #include "factories.hpp"
-#include "jacobian_rows.hpp"
-#include "scheme_rows.hpp"
 
 namespace rigidae::schemes {
 
@@ -23,7 +21,10 @@ class BaumgarteScheme final : public ConstraintScheme {
   BaumgarteScheme(double a, double b) : a_(a), b_(b) {}
 
   std::string name() const override { return "baumgarte"; }
-  UnknownLayout layout(const Representation& rep) const override { return single_level_layout(rep); }
+  // Force: lambda rows (G v' - gamma) + 2a G v + b^2 Phi. Kinematic: mu rows Phi_q q' + a Phi.
+  SchemeRows rows() const override {
+    return {{true, false, {b_ * b_, 2.0 * a_, 1.0}, {}}, {false, true, {}, {a_, 1.0, 0.0}}};
+  }
   bool suppress_multiplier_error_test() const override { return true; }
   std::vector<SchemeParameter> parameters() const override { return {{"a", a_}, {"b", b_}}; }
   std::string constrained_note(const Representation& rep) const override {
@@ -32,43 +33,6 @@ class BaumgarteScheme final : public ConstraintScheme {
                          a_);
     return fmt::format("feedback Phi'' + 2 a Phi' + b^2 Phi = 0 with a = {:g} 1/s, b = {:g} 1/s", a_, b_);
   }
-
-  void residual(const StandardTerms& t, const UnknownLayout& lay, const ConstVecRef& y, const ConstVecRef& yp,
-                VecRef F) const override {
-    kinematic_rows(t, lay, y, yp, F);
-    dynamic_rows(t, lay, y, yp, F);
-    if (lay.n_lambda > 0) {
-      auto rows = F.segment(lay.lambda_offset(), lay.n_lambda);
-      acceleration_level_rows(t, lay, yp, rows);
-      rows.noalias() += (2.0 * a_) * (t.G * y.segment(lay.v_offset(), lay.nv));
-      rows += (b_ * b_) * t.phi;
-    } else if (lay.n_mu > 0) {
-      auto rows = F.segment(lay.mu_offset(), lay.n_mu);
-      velocity_level_rows(t, lay, y, yp, rows);
-      rows += a_ * t.phi;
-    }
-  }
-
-  void iteration_matrix(const JacobianInputs& in, IterationMatrixView& J) const override {
-    add_kinematic_jacobian(in, J);
-    add_dynamic_jacobian(in, J);
-    if (in.lay.n_lambda > 0) {
-      const int row = in.lay.lambda_offset();
-      add_acceleration_level_jacobian(in, row, J);
-      add_velocity_level_jacobian(in, row, 2.0 * a_, J);
-      add_position_level_jacobian(in, row, b_ * b_, J);
-    } else if (in.lay.n_mu > 0) {
-      const int row = in.lay.mu_offset();
-      add_velocity_level_jacobian(in, row, 1.0, J);
-      add_position_level_jacobian(in, row, a_, J);
-    }
-  }
-
- protected:
-  VecC acceleration_target(const StandardTerms& t, const ConstVecRef& v) const override {
-    return t.gamma - (2.0 * a_) * (t.G * v) - (b_ * b_) * t.phi;
-  }
-  VecC rate_target(const StandardTerms& t) const override { return -a_ * t.phi; }
 
  private:
   double a_, b_;

@@ -9,8 +9,6 @@
 // on the exact solution. lambda and mu are index 2: they leave IDA's error
 // test (IDASetSuppressAlg), as index-2 BDF theory requires.
 #include "factories.hpp"
-#include "jacobian_rows.hpp"
-#include "scheme_rows.hpp"
 
 namespace rigidae::schemes {
 
@@ -19,27 +17,11 @@ namespace {
 class GglScheme final : public ConstraintScheme {
  public:
   std::string name() const override { return "ggl"; }
-  UnknownLayout layout(const Representation& rep) const override {
-    const bool force = rep.constraint_kind() == ConstraintKind::Force;
-    return {rep.nq(), rep.nv(), force ? rep.nc() : 0, rep.nc()};
+  // Force: lambda rows G v, mu rows Phi. Kinematic: mu rows Phi.
+  SchemeRows rows() const override {
+    return {{true, true, {0.0, 1.0, 0.0}, {1.0, 0.0, 0.0}}, {false, true, {}, {1.0, 0.0, 0.0}}};
   }
   bool suppress_multiplier_error_test() const override { return true; }
-
-  void residual(const StandardTerms& t, const UnknownLayout& lay, const ConstVecRef& y, const ConstVecRef& yp,
-                VecRef F) const override {
-    kinematic_rows(t, lay, y, yp, F);
-    dynamic_rows(t, lay, y, yp, F);
-    if (lay.n_lambda > 0)
-      F.segment(lay.lambda_offset(), lay.n_lambda).noalias() = t.G * y.segment(lay.v_offset(), lay.nv);
-    if (lay.n_mu > 0) F.segment(lay.mu_offset(), lay.n_mu) = t.phi;
-  }
-
-  void iteration_matrix(const JacobianInputs& in, IterationMatrixView& J) const override {
-    add_kinematic_jacobian(in, J);
-    add_dynamic_jacobian(in, J);
-    if (in.lay.n_lambda > 0) add_velocity_level_jacobian(in, in.lay.lambda_offset(), 1.0, J);
-    if (in.lay.n_mu > 0) add_position_level_jacobian(in, in.lay.mu_offset(), 1.0, J);
-  }
 };
 
 }  // namespace

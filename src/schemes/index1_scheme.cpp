@@ -9,8 +9,6 @@
 //   q' = N v,  M v' = f
 // with no multiplier at all; Phi drifts with the integration error only.
 #include "factories.hpp"
-#include "jacobian_rows.hpp"
-#include "scheme_rows.hpp"
 
 namespace rigidae::schemes {
 
@@ -19,7 +17,8 @@ namespace {
 class Index1Scheme final : public ConstraintScheme {
  public:
   std::string name() const override { return "index1"; }
-  UnknownLayout layout(const Representation& rep) const override { return acceleration_level_layout(rep); }
+  // Force: lambda rows G v' - gamma. Kinematic: no rows (the ODE).
+  SchemeRows rows() const override { return {{true, false, {0.0, 0.0, 1.0}, {}}, {}}; }
   bool suppress_multiplier_error_test() const override { return true; }
   std::string constrained_note(const Representation& rep) const override {
     if (rep.constraint_kind() == ConstraintKind::Kinematic)
@@ -27,13 +26,6 @@ class Index1Scheme final : public ConstraintScheme {
              "with no multiplier";
     return {};
   }
-
-  void residual(const StandardTerms& t, const UnknownLayout& lay, const ConstVecRef& y, const ConstVecRef& yp,
-                VecRef F) const override {
-    index1_residual(t, lay, y, yp, F);
-  }
-
-  void iteration_matrix(const JacobianInputs& in, IterationMatrixView& J) const override { add_index1_jacobian(in, J); }
 };
 
 }  // namespace

@@ -9,8 +9,6 @@
 // kinematics, q' = N v - Phi_q^T mu, Phi(q) = 0: one differentiation fixes
 // mu, so the system is index 2, with the same rows as ggl.
 #include "factories.hpp"
-#include "jacobian_rows.hpp"
-#include "scheme_rows.hpp"
 
 namespace rigidae::schemes {
 
@@ -19,30 +17,18 @@ namespace {
 class Index3Scheme final : public ConstraintScheme {
  public:
   std::string name() const override { return "index3"; }
-  UnknownLayout layout(const Representation& rep) const override { return single_level_layout(rep); }
-  bool suppress_multiplier_error_test() const override { return true; }
-  bool suppress_velocity_error_test(const Representation& rep) const override {
-    return rep.constraint_kind() == ConstraintKind::Force;
+  // Force: lambda rows Phi. Kinematic: mu rows Phi.
+  SchemeRows rows() const override {
+    return {{true, false, {1.0, 0.0, 0.0}, {}}, {false, true, {}, {1.0, 0.0, 0.0}}};
   }
+  bool suppress_multiplier_error_test() const override { return true; }
+  bool suppress_velocity_error_test(ConstraintKind kind) const override { return kind == ConstraintKind::Force; }
   std::string constrained_note(const Representation& rep) const override {
     if (rep.constraint_kind() == ConstraintKind::Kinematic)
       return "in the Euler form the position constraint acts through the kinematics (q' = N v - Phi_q^T mu): "
              "the system is index 2, with the same rows as ggl";
     return "index 3: v (index 2) and lambda (index 3) are left out of IDA's error test; the iteration matrix "
            "has condition ~1/h^3, so Newton may fail at small steps";
-  }
-
-  void residual(const StandardTerms& t, const UnknownLayout& lay, const ConstVecRef& y, const ConstVecRef& yp,
-                VecRef F) const override {
-    kinematic_rows(t, lay, y, yp, F);
-    dynamic_rows(t, lay, y, yp, F);
-    if (lay.n_lambda + lay.n_mu > 0) position_level_rows(t, constraint_rows(lay, F));
-  }
-
-  void iteration_matrix(const JacobianInputs& in, IterationMatrixView& J) const override {
-    add_kinematic_jacobian(in, J);
-    add_dynamic_jacobian(in, J);
-    if (in.lay.n_lambda + in.lay.n_mu > 0) add_position_level_jacobian(in, constraint_row(in.lay), 1.0, J);
   }
 };
 

@@ -42,13 +42,14 @@ inline void add_position_level_jacobian(const JacobianInputs& in, int row, doubl
   J.state.block(row, in.lay.q_offset(), in.terms.phi_q.rows(), in.lay.nq) += weight * in.terms.phi_q;
 }
 
-// weight * (G v) (Force kind, the layout carries lambda) or weight * Phi_q q'
-// (Kinematic kind) in the rows starting at `row`.
-inline void add_velocity_level_jacobian(const JacobianInputs& in, int row, double weight, IterationMatrixView& J) {
+// weight * (G v) (Force kind) or weight * Phi_q q' (Kinematic kind) in the
+// rows starting at `row`.
+inline void add_velocity_level_jacobian(const JacobianInputs& in, ConstraintKind kind, int row, double weight,
+                                        IterationMatrixView& J) {
   const UnknownLayout& lay = in.lay;
   const int nc = in.terms.phi_q.rows();
   MatCQ H;
-  if (lay.n_lambda > 0) {
+  if (kind == ConstraintKind::Force) {
     in.rep.constraint_hessian_applied(coordinates_of(in), in.y.segment(lay.v_offset(), lay.nv), H);
     J.state.block(row, lay.v_offset(), nc, lay.nv) += weight * in.terms.G;
   } else {
@@ -58,26 +59,22 @@ inline void add_velocity_level_jacobian(const JacobianInputs& in, int row, doubl
   J.state.block(row, lay.q_offset(), nc, lay.nq) += weight * H;
 }
 
-// G v' - gamma (Force kind) in the rows starting at `row`.
-inline void add_acceleration_level_jacobian(const JacobianInputs& in, int row, IterationMatrixView& J) {
+// weight * (G v' - gamma) (Force kind) in the rows starting at `row`.
+inline void add_acceleration_level_jacobian(const JacobianInputs& in, int row, double weight, IterationMatrixView& J) {
   const UnknownLayout& lay = in.lay;
   const int nc = in.terms.G.rows();
   MatCQ H;
   in.rep.constraint_hessian_applied(coordinates_of(in), in.yp.segment(lay.v_offset(), lay.nv), H);
-  J.state.block(row, lay.q_offset(), nc, lay.nq) += H - in.derivs.gamma_q;
-  J.state.block(row, lay.v_offset(), nc, lay.nv) += in.cj * in.terms.G - in.derivs.gamma_v;
+  J.state.block(row, lay.q_offset(), nc, lay.nq) += weight * (H - in.derivs.gamma_q);
+  J.state.block(row, lay.v_offset(), nc, lay.nv) += weight * (in.cj * in.terms.G - in.derivs.gamma_v);
 }
 
-// The first row of the group a single-level scheme writes its constraint rows to.
-inline int constraint_row(const UnknownLayout& lay) {
-  return lay.n_lambda > 0 ? lay.lambda_offset() : lay.mu_offset();
-}
-
-// The whole index-1 iteration matrix (index1 and projection).
-inline void add_index1_jacobian(const JacobianInputs& in, IterationMatrixView& J) {
-  add_kinematic_jacobian(in, J);
-  add_dynamic_jacobian(in, J);
-  if (in.lay.n_lambda > 0) add_acceleration_level_jacobian(in, in.lay.lambda_offset(), J);
+// The iteration-matrix rows of block_rows (scheme_rows.hpp), levels in the same order.
+inline void add_block_jacobian(const JacobianInputs& in, ConstraintKind kind, const LevelWeights& w, int row,
+                               IterationMatrixView& J) {
+  if (w.acceleration != 0.0) add_acceleration_level_jacobian(in, row, w.acceleration, J);
+  if (w.velocity != 0.0) add_velocity_level_jacobian(in, kind, row, w.velocity, J);
+  if (w.position != 0.0) add_position_level_jacobian(in, row, w.position, J);
 }
 
 }  // namespace rigidae::schemes

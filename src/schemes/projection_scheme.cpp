@@ -12,8 +12,6 @@
 #include <fmt/format.h>
 
 #include "factories.hpp"
-#include "jacobian_rows.hpp"
-#include "scheme_rows.hpp"
 
 namespace rigidae::schemes {
 
@@ -24,7 +22,8 @@ class ProjectionScheme final : public ConstraintScheme {
   explicit ProjectionScheme(const ProjectionPolicy& p) : policy_(p) {}
 
   std::string name() const override { return "projection"; }
-  UnknownLayout layout(const Representation& rep) const override { return acceleration_level_layout(rep); }
+  // The rows of index1: Force: lambda rows G v' - gamma. Kinematic: no rows.
+  SchemeRows rows() const override { return {{true, false, {0.0, 0.0, 1.0}, {}}, {}}; }
   bool suppress_multiplier_error_test() const override { return true; }
   ProjectionPolicy projection() const override { return policy_; }
   std::vector<SchemeParameter> parameters() const override { return {{"threshold", policy_.threshold}}; }
@@ -33,13 +32,6 @@ class ProjectionScheme final : public ConstraintScheme {
                                                 : fmt::format("when the drift exceeds {:g}", policy_.threshold);
     return "index-1 rows; the state is projected onto the manifold " + when + " and IDA restarts at order 1";
   }
-
-  void residual(const StandardTerms& t, const UnknownLayout& lay, const ConstVecRef& y, const ConstVecRef& yp,
-                VecRef F) const override {
-    index1_residual(t, lay, y, yp, F);
-  }
-
-  void iteration_matrix(const JacobianInputs& in, IterationMatrixView& J) const override { add_index1_jacobian(in, J); }
 
  private:
   ProjectionPolicy policy_;

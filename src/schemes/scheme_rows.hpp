@@ -25,16 +25,15 @@ inline void dynamic_rows(const StandardTerms& t, const UnknownLayout& lay, const
 
 namespace rigidae::schemes {
 
-// The constraint rows of one level, written into the multiplier group that
-// level determines (lambda for the Force kind, mu for the Kinematic kind).
+// The constraint rows of one level, for a block of the given kind.
 // Position level: Phi(q).
 inline void position_level_rows(const StandardTerms& t, VecRef rows) { rows = t.phi; }
 
-// Velocity level: G v (Force kind, the layout carries lambda) or Phi_q q'
-// (Kinematic kind, where q' carries mu through the kinematic rows).
-inline void velocity_level_rows(const StandardTerms& t, const UnknownLayout& lay, const ConstVecRef& y,
-                                const ConstVecRef& yp, VecRef rows) {
-  if (lay.n_lambda > 0)
+// Velocity level: G v (Force kind) or Phi_q q' (Kinematic kind, where q'
+// carries mu through the kinematic rows).
+inline void velocity_level_rows(const StandardTerms& t, ConstraintKind kind, const UnknownLayout& lay,
+                                const ConstVecRef& y, const ConstVecRef& yp, VecRef rows) {
+  if (kind == ConstraintKind::Force)
     rows.noalias() = t.G * y.segment(lay.v_offset(), lay.nv);
   else
     rows.noalias() = t.phi_q * yp.segment(lay.q_offset(), lay.nq);
@@ -47,30 +46,39 @@ inline void acceleration_level_rows(const StandardTerms& t, const UnknownLayout&
   rows -= t.gamma;
 }
 
-// Layouts. A single-level scheme has one multiplier group: lambda (force)
-// in the Lagrange form, mu (kinematic) in the Euler form.
-inline UnknownLayout single_level_layout(const Representation& rep) {
-  const bool force = rep.constraint_kind() == ConstraintKind::Force;
-  return {rep.nq(), rep.nv(), force ? rep.nc() : 0, force ? 0 : rep.nc()};
-}
-// Index 1 keeps lambda in the Lagrange form and no multiplier in the Euler form.
-inline UnknownLayout acceleration_level_layout(const Representation& rep) {
-  const bool force = rep.constraint_kind() == ConstraintKind::Force;
-  return {rep.nq(), rep.nv(), force ? rep.nc() : 0, 0};
-}
-
-// The multiplier group a single-level scheme solves for.
-inline VecRef constraint_rows(const UnknownLayout& lay, VecRef F) {
-  return lay.n_lambda > 0 ? F.segment(lay.lambda_offset(), lay.n_lambda) : F.segment(lay.mu_offset(), lay.n_mu);
-}
-
-// The whole index-1 residual (index1, and projection between projections):
-// kinematics, dynamics and, in the Lagrange form, G v' = gamma.
-inline void index1_residual(const StandardTerms& t, const UnknownLayout& lay, const ConstVecRef& y,
-                            const ConstVecRef& yp, VecRef F) {
-  kinematic_rows(t, lay, y, yp, F);
-  dynamic_rows(t, lay, y, yp, F);
-  if (lay.n_lambda > 0) acceleration_level_rows(t, lay, yp, F.segment(lay.lambda_offset(), lay.n_lambda));
+// One multiplier group's rows of a block:
+//   w_A (G v' - gamma) + w_V (velocity level) + w_P Phi,
+// levels in that order; the first level present is written, the others
+// added, and a weight of one is not multiplied in.
+inline void block_rows(const StandardTerms& t, ConstraintKind kind, const LevelWeights& w, const UnknownLayout& lay,
+                       const ConstVecRef& y, const ConstVecRef& yp, VecRef rows) {
+  bool written = false;
+  if (w.acceleration != 0.0) {
+    acceleration_level_rows(t, lay, yp, rows);
+    if (w.acceleration != 1.0) rows *= w.acceleration;
+    written = true;
+  }
+  if (w.velocity != 0.0) {
+    if (!written) {
+      velocity_level_rows(t, kind, lay, y, yp, rows);
+      if (w.velocity != 1.0) rows *= w.velocity;
+    } else if (kind == ConstraintKind::Force) {
+      rows.noalias() += w.velocity * (t.G * y.segment(lay.v_offset(), lay.nv));
+    } else {
+      rows.noalias() += w.velocity * (t.phi_q * yp.segment(lay.q_offset(), lay.nq));
+    }
+    written = true;
+  }
+  if (w.position != 0.0) {
+    if (!written) {
+      position_level_rows(t, rows);
+      if (w.position != 1.0) rows *= w.position;
+    } else {
+      rows += w.position * t.phi;
+    }
+    written = true;
+  }
+  if (!written) rows.setZero();
 }
 
 }  // namespace rigidae::schemes

@@ -6,14 +6,17 @@
 //   q, v     differential (IDA id 1)
 //   lambda   force multipliers, one per constraint of a Force-kind representation
 //   mu       kinematic multipliers (q' = N v - Phi_q^T mu), GGL-style
-// Both multiplier groups are algebraic (id 0). A scheme decides which
-// groups exist, the rows, whether multipliers stay in the error test, and how
-// to make a consistent start.
+// Both multiplier groups are algebraic (id 0). The constraints come in
+// blocks, each of one kind (block_rows.hpp); a scheme states per kind which
+// multiplier groups a block carries and which levels its rows combine
+// (rows()), and the assembler here loops over the blocks. A scheme also
+// decides whether multipliers stay in the error test.
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "rigidae/coords/representation.hpp"
+#include "rigidae/schemes/block_rows.hpp"
 #include "rigidae/model/scene.hpp"
 
 namespace rigidae {
@@ -25,8 +28,22 @@ struct ProjectionPolicy {
   double threshold = 0.0;   // on |Phi| and |G v| (or |dPhi/dt|)
 };
 
+// One block of constraints: its kind, its number of rows, what the scheme
+// writes for that kind, and where its multiplier rows start (-1: no group).
+struct ConstraintBlockLayout {
+  ConstraintKind kind = ConstraintKind::None;
+  int nr = 0;
+  KindRows rows;
+  int lambda_row = -1, mu_row = -1;
+};
+
 struct UnknownLayout {
   int nq = 0, nv = 0, n_lambda = 0, n_mu = 0;
+  // One body has at most one block (none for Euler angles, and none when the
+  // scheme writes no rows for its kind: index 1 in the Euler form).
+  static constexpr int kMaxBlocks = 1;
+  int n_blocks = 0;
+  ConstraintBlockLayout blocks[kMaxBlocks];
   int q_offset() const { return 0; }
   int v_offset() const { return nq; }
   int lambda_offset() const { return nq + nv; }
@@ -73,12 +90,16 @@ class ConstraintScheme {
   virtual ~ConstraintScheme() = default;
 
   virtual std::string name() const = 0;
-  // Which multiplier groups this scheme carries for a representation.
-  virtual UnknownLayout layout(const Representation& rep) const = 0;
+  // The rows this scheme writes for a block of each kind.
+  virtual SchemeRows rows() const = 0;
+  // The unknowns for a representation: its constraints as one block of its
+  // kind, with the multiplier groups rows() states for that kind.
+  UnknownLayout layout(const Representation& rep) const;
   // True when multipliers must leave IDA's error test (index 2 and above).
   virtual bool suppress_multiplier_error_test() const = 0;
-  // True when the velocities must leave it too (index 3, where v is index 2).
-  virtual bool suppress_velocity_error_test(const Representation& /*rep*/) const { return false; }
+  // True when the velocities must leave it too (index 3 with blocks of this
+  // kind, where v is index 2).
+  virtual bool suppress_velocity_error_test(ConstraintKind /*kind*/) const { return false; }
   // The numbers this scheme runs with, as it uses them (defaults resolved).
   virtual std::vector<SchemeParameter> parameters() const { return {}; }
   // Whether and when the driver projects the state onto the manifold.
@@ -88,31 +109,29 @@ class ConstraintScheme {
   // same ODE, and the note says so; otherwise it is constrained_note().
   std::string note(const Representation& rep) const;
 
-  // The hot path: F(t, y, y') from the terms evaluated at (q, v) of y.
-  virtual void residual(const StandardTerms& terms, const UnknownLayout& lay, const ConstVecRef& y,
-                        const ConstVecRef& yp, VecRef F) const = 0;
+  // The hot path: F(t, y, y') from the terms evaluated at (q, v) of y: the
+  // kinematic and dynamic rows, then each block's rows as its kind says.
+  void residual(const StandardTerms& terms, const UnknownLayout& lay, const ConstVecRef& y, const ConstVecRef& yp,
+                VecRef F) const;
 
   // The hot path: the exact iteration matrix dF/dy + cj dF/dy' of residual()
   // (n x n), added into J, which the caller has zeroed.
-  virtual void iteration_matrix(const JacobianInputs& in, IterationMatrixView& J) const = 0;
+  void iteration_matrix(const JacobianInputs& in, IterationMatrixView& J) const;
 
   // Given q, v in y (already on the constraint manifold), fills the
   // multipliers of y and all of yp so that the residual vanishes to round-off:
   // (v', lambda) from the constrained-acceleration system
   //   [M G^T; G 0] (v', lambda) = (f, gamma),
   // mu from d/dt Phi = Phi_q (N v - Phi_q^T mu) = 0 (zero on exact data),
-  // (gamma and 0 replaced by the targets below for schemes with feedback),
-  // q' = N v - Phi_q^T mu. Schemes whose acceleration level differs override.
-  virtual void consistent_start(const StandardTerms& terms, const UnknownLayout& lay, VecRef y, VecRef yp) const;
+  // q' = N v - Phi_q^T mu. A scheme with feedback starts on its own rows:
+  // with lambda rows w_A (G v' - gamma) + w_V G v + w_P Phi = 0, the target
+  // of G v' is gamma - (w_V G v + w_P Phi) / w_A; with mu rows of a
+  // Kinematic block w_V Phi_q q' + w_P Phi = 0, Phi_q q' = -w_P Phi / w_V.
+  void consistent_start(const StandardTerms& terms, const UnknownLayout& lay, VecRef y, VecRef yp) const;
 
  protected:
   // The note for a representation with constraints (empty by default).
   virtual std::string constrained_note(const Representation& /*rep*/) const { return {}; }
-  // What the consistent start solves for, so that a scheme with feedback
-  // starts on its own solution: G v' = acceleration_target (Force kind) and
-  // Phi_q q' = rate_target (Kinematic kind with mu).
-  virtual VecC acceleration_target(const StandardTerms& terms, const ConstVecRef& v) const;
-  virtual VecC rate_target(const StandardTerms& terms) const;
 };
 
 // What the schemes read of a run's settings, defaults resolved: a scheme's
