@@ -57,12 +57,46 @@ void SingleBodyOde::absolute_tolerances(double /*rtol*/, double atol, const Eige
   out.setConstant(atol);
 }
 
+namespace {
+
+// Whether an LDLT of a symmetric positive semi-definite matrix can be used to
+// solve with it: every pivot positive and none negligible against the largest.
+// Linear coordinates in the Lagrange form have a mass matrix built from the
+// body's second moments E = tr(J)/2 I - J; a lamina (J3 = J1 + J2) has no
+// second moment along its normal, so M is singular there, while [M G^T; G 0]
+// stays regular (M is positive definite on ker G: every admissible velocity
+// has kinetic energy). Solving through M^-1 would then go wrong silently.
+bool regular(const Eigen::LDLT<MatVV>& ldlt) {
+  if (ldlt.info() != Eigen::Success || ldlt.rows() == 0) return ldlt.info() == Eigen::Success;
+  const auto d = ldlt.vectorD();
+  return d.minCoeff() > 1e-12 * d.cwiseAbs().maxCoeff();
+}
+
+using MatSaddle = BoundedMat<kMaxVelocities + kMaxConstraints, kMaxVelocities + kMaxConstraints>;
+using VecSaddle = BoundedVec<kMaxVelocities + kMaxConstraints>;
+
+}  // namespace
+
 const Eigen::LDLT<MatVV>& SingleBodyOde::factorised_mass() {
   if (mass_factored_.rows() != terms_.M.rows() || mass_factored_ != terms_.M) {
     mass_factored_ = terms_.M;
     mass_ldlt_.compute(mass_factored_);
+    mass_regular_ = regular(mass_ldlt_);
   }
   return mass_ldlt_;
+}
+
+void SingleBodyOde::saddle_point_solve(const VecV& top, const VecC& bottom, VecV& x, VecC& m) const {
+  const int n = nv_ + nc_;
+  MatSaddle K = MatSaddle::Zero(n, n);
+  K.topLeftCorner(nv_, nv_) = terms_.M;
+  K.topRightCorner(nv_, nc_) = terms_.G.transpose();
+  K.bottomLeftCorner(nc_, nv_) = terms_.G;
+  VecSaddle b(n);
+  b << top, bottom;
+  const VecSaddle s = K.fullPivLu().solve(b);
+  x = s.head(nv_);
+  m = s.tail(nc_);
 }
 
 bool SingleBodyOde::accelerations(double t, const double* x) {
@@ -70,7 +104,9 @@ bool SingleBodyOde::accelerations(double t, const double* x) {
   v_ = Eigen::Map<const Eigen::VectorXd>(x + nq_, nv_);
   rep().evaluate(t, q_, v_, terms_);
   const Eigen::LDLT<MatVV>& M = factorised_mass();
-  if (force_ && nc_ > 0) {
+  if (force_ && nc_ > 0 && !mass_regular_) {
+    saddle_point_solve(terms_.f, terms_.gamma, acc_, lambda_);
+  } else if (force_ && nc_ > 0) {
     // Schur complement of [M G^T; G 0]: S lambda = G M^-1 f - gamma.
     const VecV Minv_f = M.solve(terms_.f);
     const BoundedMat<kMaxVelocities, kMaxConstraints> Minv_Gt = M.solve(terms_.G.transpose());
@@ -105,6 +141,14 @@ void SingleBodyOde::project(double t, double* x) {
   v_ = Eigen::Map<const Eigen::VectorXd>(x + nq_, nv_);
   rep().evaluate(t, q_, v_, terms_);
   const Eigen::LDLT<MatVV> M(terms_.M);
+  if (!regular(M)) {
+    // The same projection as the saddle point [M G^T; G 0] [v+; m] = [M v; 0].
+    VecC m;
+    const VecV Mv = terms_.M * v_;
+    saddle_point_solve(Mv, VecC::Zero(nc_), v_, m);
+    Eigen::Map<Eigen::VectorXd>(x + nq_, nv_) = v_;
+    return;
+  }
   const BoundedMat<kMaxVelocities, kMaxConstraints> Minv_Gt = M.solve(terms_.G.transpose());
   const BoundedMat<kMaxConstraints, kMaxConstraints> S = terms_.G * Minv_Gt;
   v_ -= Minv_Gt * S.ldlt().solve(terms_.G * v_);
@@ -124,6 +168,14 @@ void SingleBodyOde::project_error(double t, const double* x, double* e) {
   if (!force_) return;
   Eigen::Map<Eigen::VectorXd> ev(e + nq_, nv_);
   const Eigen::LDLT<MatVV> M(terms_.M);
+  if (!regular(M)) {
+    VecC m;
+    VecV projected;
+    const VecV Mev = terms_.M * ev;
+    saddle_point_solve(Mev, VecC::Zero(nc_), projected, m);
+    ev = projected;
+    return;
+  }
   const BoundedMat<kMaxVelocities, kMaxConstraints> Minv_Gt = M.solve(terms_.G.transpose());
   const BoundedMat<kMaxConstraints, kMaxConstraints> S = terms_.G * Minv_Gt;
   const VecC cv = S.ldlt().solve(terms_.G * ev);

@@ -75,6 +75,10 @@ class SingleBodyOde final : public OdeProblem, public ChartState {
   const Eigen::LDLT<MatVV>& factorised_mass();
   Eigen::LDLT<MatVV> mass_ldlt_;
   MatVV mass_factored_;
+  bool mass_regular_ = true;  // of mass_ldlt_: false for a lamina in linear coordinates
+  // [M G^T; G 0] [x; m] = [top; bottom] at terms_, solved whole: for a mass
+  // matrix that is singular while the saddle-point matrix is not.
+  void saddle_point_solve(const VecV& top, const VecC& bottom, VecV& x, VecC& m) const;
   StandardTerms terms_;  // scratch of the hot path
   VecQ q_;
   VecV v_, acc_;
