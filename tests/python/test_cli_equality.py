@@ -46,6 +46,9 @@ def test_module_equals_cli(options, tmp_path):
     # Everything else in the summary but the wall time.
     py = dict(run.summary)
     py.pop("wall_time_s"), cli.pop("wall_time_s")
+    # The command's own addition: the error against the closed form on the
+    # output grid (the heavy top has one), from trajectory.csv and reference.csv.
+    assert cli.pop("closed_form_error")["final_orientation_rad"] < 1e-3
     assert py == cli
 
     for array, name in ((run.steps, "steps.csv"), (run.grid, "trajectory.csv")):
