@@ -72,6 +72,8 @@ def test_files_written_by_the_module_equal_the_cli_files(tmp_path):
         assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
     py, cli = read_summary(tmp_path / "py"), read_summary(tmp_path / "cli")
     py.pop("wall_time_s"), cli.pop("wall_time_s")
+    assert "closed_form_error" in cli  # the command's own addition, as above
+    cli.pop("closed_form_error")
     assert py == cli
     # The events of the chart switches, in memory as in events.csv.
     _, header, rows = read_csv(tmp_path / "cli" / "events.csv")
