@@ -127,13 +127,27 @@ ErrorEstimate estimate_global_error(const Scene& scene, const SolveOutcome& run)
 
   if (!scene.multibody) {
     std::string why;
-    if (const std::optional<ReferenceTrajectory> exact = exact_reference(scene, &why)) {
-      std::vector<std::vector<Vec4>> q;
-      for (const Vec4& x : exact->q_WB) q.push_back({x});
-      e.closed_form = compare(mine, exact->t, q);
-    }
+    if (const std::optional<ReferenceTrajectory> exact = exact_reference(scene, &why))
+      e.closed_form = error_against(run, *exact);
   }
   return e;
+}
+
+OrientationError error_against(const SolveOutcome& run, const ReferenceTrajectory& reference) {
+  const Orientations mine = read_orientations(run.out_dir / "trajectory.csv");
+  std::vector<std::vector<Vec4>> q;
+  q.reserve(reference.q_WB.size());
+  for (const Vec4& x : reference.q_WB) q.push_back({x});
+  return compare(mine, reference.t, q);
+}
+
+void add_closed_form_error_to_summary(const std::filesystem::path& summary, const OrientationError& e) {
+  std::ifstream in(summary);
+  nlohmann::json j = nlohmann::json::parse(in);
+  nlohmann::json x = error_json(e);
+  x["definition"] = "rotation angle of R_exact^T R on the output grid (reference.csv holds the closed form there)";
+  j["closed_form_error"] = x;
+  write_file_atomically(summary, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 void add_error_estimate_to_summary(const std::filesystem::path& summary, const ErrorEstimate& e) {

@@ -46,6 +46,9 @@ def test_module_equals_cli(options, tmp_path):
     # Everything else in the summary but the wall time.
     py = dict(run.summary)
     py.pop("wall_time_s"), cli.pop("wall_time_s")
+    # The command's own addition: the error against the closed form on the
+    # output grid (the heavy top has one), from trajectory.csv and reference.csv.
+    assert cli.pop("closed_form_error")["final_orientation_rad"] < 1e-3
     assert py == cli
 
     for array, name in ((run.steps, "steps.csv"), (run.grid, "trajectory.csv")):
@@ -69,6 +72,8 @@ def test_files_written_by_the_module_equal_the_cli_files(tmp_path):
         assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
     py, cli = read_summary(tmp_path / "py"), read_summary(tmp_path / "cli")
     py.pop("wall_time_s"), cli.pop("wall_time_s")
+    assert "closed_form_error" in cli  # the command's own addition, as above
+    cli.pop("closed_form_error")
     assert py == cli
     # The events of the chart switches, in memory as in events.csv.
     _, header, rows = read_csv(tmp_path / "cli" / "events.csv")

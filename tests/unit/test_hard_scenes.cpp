@@ -38,7 +38,7 @@ Scene with(Scene s, Coordinates c, Equations e, const std::string& scheme = "ggl
 }
 
 std::filesystem::path scratch(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / "rigidae_tests" / "hard" / name;
+  const auto dir = std::filesystem::temp_directory_path() / "rigidae_tests" / "hard" / (std::to_string(::getpid()) + "-" + name);
   std::filesystem::remove_all(dir);
   return dir;
 }

@@ -1,5 +1,6 @@
 // The heavy-top benchmark solved end to end in every representation.
 #include <doctest/doctest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -14,7 +15,7 @@ using namespace rigidae;
 namespace {
 
 std::filesystem::path scratch(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / "rigidae_tests" / name;
+  const auto dir = std::filesystem::temp_directory_path() / "rigidae_tests" / (std::to_string(::getpid()) + "-" + name);
   std::filesystem::remove_all(dir);
   return dir;
 }

@@ -1,6 +1,7 @@
 // Constraint schemes on the heavy top: drift as index theory predicts,
 // accuracy against a tight reference, and what each scheme costs.
 #include <doctest/doctest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -19,7 +20,7 @@ using namespace rigidae;
 namespace {
 
 std::filesystem::path scratch(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / "rigidae_scheme_tests" / name;
+  const auto dir = std::filesystem::temp_directory_path() / "rigidae_scheme_tests" / (std::to_string(::getpid()) + "-" + name);
   std::filesystem::remove_all(dir);
   return dir;
 }

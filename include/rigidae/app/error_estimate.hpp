@@ -41,6 +41,16 @@ std::pair<double, double> tight_tolerances(const SolverSettings& run);
 // trajectory.csv must exist (record = steps or grid).
 ErrorEstimate estimate_global_error(const Scene& scene, const SolveOutcome& run);
 
+struct ReferenceTrajectory;  // app/reference.hpp
+
+// A single-body run's orientation error against a reference on its output
+// grid (read back from the run's trajectory.csv, which must exist): the
+// closed form `solve` reports when the scene has one.
+OrientationError error_against(const SolveOutcome& run, const ReferenceTrajectory& reference);
+
+// Adds "closed_form_error" to the run's summary.json (rewritten atomically).
+void add_closed_form_error_to_summary(const std::filesystem::path& summary, const OrientationError& e);
+
 // Adds "error_estimate" to the run's summary.json (rewritten atomically).
 void add_error_estimate_to_summary(const std::filesystem::path& summary, const ErrorEstimate& e);
 
