@@ -1,4 +1,5 @@
 #include "rigidae/app/accuracy.hpp"
+#include "error_series.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,25 +11,7 @@ namespace rigidae {
 
 namespace {
 
-// Accumulates one error group over the grid.
-struct ErrorSeries {
-  double sum_sq = 0.0, max = 0.0, last = 0.0;
-  long n = 0;
-  void add(double e) {
-    sum_sq += e * e;
-    max = std::max(max, e);
-    last = e;
-    ++n;
-  }
-  ErrorStats stats(bool reached_end) const {
-    ErrorStats s;
-    if (n == 0) return s;
-    s.l2 = std::sqrt(sum_sq / static_cast<double>(n));
-    s.max = max;
-    if (reached_end) s.final = last;
-    return s;
-  }
-};
+using ErrorSeries = detail::ErrorSeries;
 
 // As the IVP Test Set's report code: an error below the unit round-off
 // counts as the round-off, so an exact match gives ~15.95 digits, not +inf.
