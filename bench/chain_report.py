@@ -4,10 +4,12 @@
     /usr/bin/python3 bench/chain_report.py RESULTS.jsonl [--figure docs/figures/benchmarks_chain.png]
 
 Prints a Markdown table (one row per N and linear solver: unknowns,
-nonzeros, steps, residual evaluations per step, median wall and CPU time per
-step, peak resident memory) and, per linear solver, the least-squares slope
-of log(time per step) against log(N) over N >= 10 (wall and CPU), then
-draws time per step against N on log-log axes.
+nonzeros of the matrix and of KLU's factors L + U, steps, residual
+evaluations per step, median wall and CPU time per step, instructions per
+step when chain.sh ran with --callgrind, peak resident memory) and, per
+linear solver, the least-squares slope of log(cost per step) against log(N)
+over N >= 10 (wall, CPU, instructions), then draws cost per step against N
+on log-log axes.
 """
 import argparse
 import json
@@ -27,13 +29,15 @@ def main():
     ap.add_argument("--figure")
     args = ap.parse_args()
     rows = [json.loads(line) for line in open(args.results) if line.strip()]
-    print("| N | linear solver | unknowns | nonzeros | steps | residuals/step | wall ms/step (median) "
-          "| CPU ms/step (median) | peak RSS (MB) |")
-    print("|---:|---|---:|---:|---:|---:|---:|---:|---:|")
+    print("| N | linear solver | unknowns | nonzeros | L + U nonzeros | steps | residuals/step "
+          "| wall ms/step (median) | CPU ms/step (median) | instructions/step (M) | peak RSS (MB) |")
+    print("|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for r in rows:
-        print(f"| {r['links']} | {r['linear_solver']} ({r['solver_setting']}) | {r['unknowns']} | {r['nonzeros']} "
-              f"| {r['steps']} | {r['residuals_per_step']:.2f} | {r['ms_per_step']:.3g} | {r['cpu_ms_per_step']:.3g} "
-              f"| {r['max_rss_kb'] / 1024:.1f} |")
+        lu = f"{r['factor_nonzeros']:,}" if r.get("factor_nonzeros") else "-"
+        ins = f"{r['instructions_per_step'] / 1e6:.3g}" if r.get("instructions_per_step") else "-"
+        print(f"| {r['links']} | {r['linear_solver']} ({r['solver_setting']}) | {r['unknowns']:,} | {r['nonzeros']:,} "
+              f"| {lu} | {r['steps']} | {r['residuals_per_step']:.2f} | {r['ms_per_step']:.3g} "
+              f"| {r['cpu_ms_per_step']:.3g} | {ins} | {r['max_rss_kb'] / 1024:.1f} |")
     by_setting = {}
     for r in rows:
         by_setting.setdefault(r["solver_setting"], []).append(r)
@@ -41,8 +45,13 @@ def main():
     for setting, rs in by_setting.items():
         big = [r for r in rs if r["links"] >= 10]
         if len(big) >= 2:
-            print(f"{setting}: log-log slope over N >= 10: wall {slope([(r['links'], r['ms_per_step']) for r in big]):.2f}, "
-                  f"CPU {slope([(r['links'], r['cpu_ms_per_step']) for r in big]):.2f}")
+            line = (f"{setting}: log-log slope over N >= 10: wall {slope([(r['links'], r['ms_per_step']) for r in big]):.2f}, "
+                    f"CPU {slope([(r['links'], r['cpu_ms_per_step']) for r in big]):.2f}")
+            if all(r.get("instructions_per_step") for r in big):
+                line += f", instructions {slope([(r['links'], r['instructions_per_step']) for r in big]):.2f}"
+            if all(r.get("factor_nonzeros") for r in big):
+                line += f", L + U nonzeros {slope([(r['links'], r['factor_nonzeros']) for r in big]):.2f}"
+            print(line)
     if args.figure:
         import matplotlib
         matplotlib.use("Agg")
@@ -52,11 +61,15 @@ def main():
             n = [r["links"] for r in rs]
             ax.loglog(n, [r["ms_per_step"] for r in rs], "o-", label=f"{setting}: wall (median)")
             ax.loglog(n, [r["cpu_ms_per_step"] for r in rs], "s--", label=f"{setting}: CPU (median)")
+            if all(r.get("instructions_per_step") for r in rs):
+                # Instructions on the same axis: 1 ms = 1e6 instructions at 1 instruction per ns.
+                ax.loglog(n, [r["instructions_per_step"] / 1e6 for r in rs], "^-.",
+                          label=f"{setting}: instructions / 1e6 (callgrind)")
         n = sorted({r["links"] for r in rows})
         ref = [r for r in rows if r["links"] == n[0]][0]["cpu_ms_per_step"]
         ax.loglog(n, [ref * x / n[0] for x in n], "k:", label="linear in N")
         ax.set_xlabel("links N")
-        ax.set_ylabel("time per step (ms)")
+        ax.set_ylabel("per step: time (ms), instructions (millions)")
         ax.set_title("N-link spherical chain, quaternion/euler/ggl, rtol 1e-8")
         ax.legend(fontsize=8)
         fig.tight_layout()

@@ -125,6 +125,7 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
   for (int k = 0; k < static_cast<int>(blocks_.size()); ++k)
     if (!blocks_[k].internal) block_of_joint_[blocks_[k].joint] = k;
   n_ = offset;
+  drift_memo_y_.resize(n_);
 
   work_.resize(bodies_.size());
   for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) {

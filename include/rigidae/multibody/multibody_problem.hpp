@@ -201,6 +201,12 @@ class MultibodyProblem final : public DaeProblem {
   std::vector<std::string> warnings_;
   std::vector<EventNote> events_;
   const double* evaluated_y_ = nullptr;  // output_row: the bodies are evaluated at this y
+  // drift()'s last answer and the (t, y) it was for (y copied: the driver
+  // reuses its buffers).
+  bool drift_memo_valid_ = false;
+  double drift_memo_t_ = 0.0;
+  Eigen::VectorXd drift_memo_y_;
+  std::pair<double, double> drift_memo_{0.0, 0.0};
 };
 
 }  // namespace rigidae::multibody
