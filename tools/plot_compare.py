@@ -1013,10 +1013,13 @@ def plot_summary(ctx):
     # coordinates ignore the scheme) show as concentric rings
     size = {s: max(5.0, 14.0 - 2.2 * k) for k, s in enumerate(ctx.styles.order)}
     error_label = "worst body's angle at the end  (rad)" if ctx.multibody else "orientation error at the end  (rad)"
+    drift_label, energy_label = (("max |Φ| over the joints  (m or rad)", "max |H − H₀| / max(|H₀|, 1 J)")
+                                 if ctx.multibody else
+                                 ("max |Φ(q)|  (dimensionless)", "max |H − H₀| / |H₀|  (dimensionless)"))
     panels = [("error_final_rad", ctx.runs, error_label, "error against work"),
               ("drift_position", [r for r in ctx.runs if r.coords in ctx.constrained],
-               "max |Φ(q)|  (dimensionless)", "constraint drift against work"),
-              ("energy_rel_error", ctx.runs, "max |H − H₀| / |H₀|  (dimensionless)", "energy error against work")]
+               drift_label, "constraint drift against work"),
+              ("energy_rel_error", ctx.runs, energy_label, "energy error against work")]
     if not any(r.maximum("error_final_rad") is not None and np.isfinite(r.maximum("error_final_rad"))
                for r in ctx.runs):
         panels = panels[1:]  # no reference: no errors in compare.csv
@@ -1084,7 +1087,8 @@ def plot_summary(ctx):
     if any_fail:
         handles.append(Line2D([], [], marker="x", color="black", linestyle="none", markersize=11,
                               markeredgewidth=1.5, label="failed / interrupted (maxima up to the stop)"))
-    note = ("error: angle to the reference at the end (compare.csv); drift and energy: maxima over the whole run "
+    note = (("error: the worst body's angle" if ctx.multibody else "error: angle") +
+            " to the reference at the end (compare.csv); drift and energy: maxima over the whole run "
             "(summary.json); coinciding points are drawn as concentric markers")
     if clipped:
         note += "; values below the axis bottom (incl. exact zeros) drawn at the bottom"

@@ -9,6 +9,11 @@
 // and the body's orientation is the rotation by theta about the space axis
 // applied to the initial one. The body's inertia is a full tensor and the
 // axis is not principal, so the joint's other rows carry reactions.
+// Energy: the spring's potential V = 1/2 k (theta - theta0)^2 against its
+// torque (-dV/dtheta by central differences, the torque read from the
+// residual), the accuracy check's energy measure on undamped springs against
+// a recomputation with the angle unwrapped from the orientation, and a
+// damper's loss against the integral of c theta'^2.
 // Exact iteration matrices with torsion: test_multibody_jacobians.cpp (its
 // two-body revolute chain has torsional spring-dampers).
 #include <doctest/doctest.h>
