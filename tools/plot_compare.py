@@ -317,7 +317,10 @@ def read_reference(root):
     """The reference on the output grid: DIR/reference.csv (written by compare and solve --plot),
     else a tight reference run's DIR/reference/trajectory.csv; (grid, path) or (None, None). A
     multibody reference (BODY.qw columns) is read by read_body_grid and carries "multibody": True."""
+    summary = read_json(os.path.join(root, "reference.json"))  # {} when absent
     for rel in ("reference.csv", os.path.join("reference", "trajectory.csv")):
+        if rel != "reference.csv" and summary.get("ok") is False:
+            continue  # a failed tight run (or cross-check): compare reports no errors, nor do the figures
         path = os.path.join(root, rel)
         g = read_grid(path)
         if g is None:
