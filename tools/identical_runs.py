@@ -7,9 +7,10 @@ projection (never, when the drift stays under the threshold). Drawn as two
 lines, one hides the other exactly; so the figures draw one and say "same as".
 
 Two runs are *identical* when their step histories (steps.csv: every step's t,
-h, order, orientation and angular velocity) agree bit for bit, or, without
-steps.csv, when their output grids (trajectory.csv) and IDA counters agree bit
-for bit. Two runs are *the same until t* when their step histories agree on a
+h, order, orientation and angular velocity; for a multibody scene t, h, order,
+energy and the joints' drift) agree bit for bit, or, without steps.csv, when
+their output grids (trajectory.csv; multibody: every body's orientation and
+angular velocity) and IDA counters agree bit for bit. Two runs are *the same until t* when their step histories agree on a
 common first stretch of at least MIN_SHARED_STEPS steps and then part (a
 projection, for `projection` against `index1`): different DAEs part at the
 first or second step, because the first step's Newton iterate already differs.
@@ -25,6 +26,8 @@ import numpy as np
 
 MIN_SHARED_STEPS = 10
 STATE_COLUMNS = ("t", "h", "order", "qw", "qx", "qy", "qz", "omega_x", "omega_y", "omega_z")
+# A multibody steps.csv has no orientation: its energy and drift stand for the state.
+MULTIBODY_STEP_COLUMNS = ("energy", "drift_position", "drift_velocity")
 
 
 def _read_numeric(path, wanted):
@@ -54,12 +57,35 @@ def _read_numeric(path, wanted):
     return out
 
 
+def _header(path):
+    """Column names of a rigidae CSV ([] if unreadable)."""
+    try:
+        with open(path, errors="replace") as f:
+            first = f.readline()
+            header = f.readline() if first.startswith("#") else first
+    except OSError:
+        return []
+    return [h.strip() for h in header.strip().split(",")]
+
+
+def _wanted(path):
+    """STATE_COLUMNS, and for a multibody file (no qw column) what stands for the state there: each
+    body's BODY.qw..qz and BODY.wx..wz (trajectory.csv), the energy and the joints' drift (steps.csv)."""
+    names = _header(path)
+    if "qw" in names:
+        return STATE_COLUMNS
+    body = [n for n in names if n.rsplit(".", 1)[-1] in ("qw", "qx", "qy", "qz", "wx", "wy", "wz") and "." in n]
+    return STATE_COLUMNS + MULTIBODY_STEP_COLUMNS + tuple(body)
+
+
 def history(folder):
     """The run's fingerprint: ("steps", columns) from steps.csv, else ("grid", columns, counters)."""
-    cols = _read_numeric(os.path.join(folder, "steps.csv"), STATE_COLUMNS)
+    steps = os.path.join(folder, "steps.csv")
+    cols = _read_numeric(steps, _wanted(steps))
     if cols and "t" in cols and "h" in cols:
         return ("steps", cols, None)
-    cols = _read_numeric(os.path.join(folder, "trajectory.csv"), STATE_COLUMNS)
+    grid = os.path.join(folder, "trajectory.csv")
+    cols = _read_numeric(grid, _wanted(grid))
     try:
         with open(os.path.join(folder, "summary.json")) as f:
             counters = json.load(f).get("counters")

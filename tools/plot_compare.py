@@ -16,7 +16,11 @@ row per coordinates (euler, quaternion, linear) and one column per equation
 form (lagrange, euler), with shared axes; one line per scheme:
 
   error.png           angle between each run's orientation and the reference at
-                      every output time (trajectory.csv), log axis.
+                      every output time (trajectory.csv), log axis. A multibody
+                      compare (schema-2 scene; reference.csv has BODY.qw ...
+                      columns): the worst body's angle at each output time.
+  error_position.png  multibody compare only: the worst body's centre-of-mass
+                      distance to the reference (m) at each output time.
   drift_position.png  |Phi(q)| at every IDA step against t, log axis, one panel
                       per constrained representation (2 x 2).
   drift_velocity.png  the same for the velocity level |dPhi/dt| (1/s).
@@ -110,6 +114,7 @@ QUANTITY = {  # key -> (y label, short description)
     "mu": ("‖μ‖  (1/s)", "kinematic multipliers μ"),
     "vertical_momentum_rel_error": ("|L_z − L_z0| / |L₀|  (dimensionless)", "relative error of the vertical angular momentum"),
     "error": ("angle to reference  (rad)", "orientation error against time"),
+    "error_position": ("worst body's CoM distance  (m)", "worst body's centre-of-mass error against time"),
     "h": ("step size h  (s)", "step size"),
     "order": ("BDF order", "order"),
 }
@@ -129,6 +134,8 @@ def label_multibody_quantities(runs):
     QUANTITY["drift_position"] = ("max |Φ| over the joints  (m or rad)", "joint position-level residual max |Φ|")
     QUANTITY["drift_velocity"] = ("max |G v| over the joints  (m/s or rad/s)", "joint velocity-level residual max |G v|")
     QUANTITY["energy_rel_error"] = ("|H − H₀| / max(|H₀|, 1 J)", "relative energy error of the mechanism")
+    QUANTITY["error"] = ("worst body's angle to reference  (rad)",
+                         "worst body's orientation error against time")
 
 
 # ----------------------------------------------------------------------------
@@ -283,11 +290,41 @@ def read_grid(path):
     return cols
 
 
+def read_body_grid(path):
+    """A multibody trajectory.csv or reference.csv (columns BODY.qw..qz and BODY.x..z per body): dict with
+    t (N), bodies (names in column order), q (N x B x 4, unit quaternions of R_WB, scalar first) and
+    x (N x B x 3, centres of mass in m); None without a BODY.qw column or when unreadable."""
+    try:
+        with open(path, errors="replace") as f:
+            first = f.readline()
+            header = f.readline() if first.startswith("#") else first
+    except OSError:
+        return None
+    names = [h.strip() for h in header.strip().split(",")]
+    bodies = [h[:-3] for h in names if h.endswith(".qw") and len(h) > 3]
+    if not bodies or names[0] != "t":
+        return None
+    wanted = ["t"] + [f"{b}.{c}" for b in bodies for c in QUATERNION + ("x", "y", "z")]
+    cols = identical_runs._read_numeric(path, wanted)
+    if not cols or any(w not in cols for w in wanted):
+        return None
+    return {"t": cols["t"], "bodies": bodies, "multibody": True,
+            "q": np.stack([np.stack([cols[f"{b}.{c}"] for c in QUATERNION], 1) for b in bodies], 1),
+            "x": np.stack([np.stack([cols[f"{b}.{c}"] for c in ("x", "y", "z")], 1) for b in bodies], 1)}
+
+
 def read_reference(root):
     """The reference on the output grid: DIR/reference.csv (written by compare and solve --plot),
-    else a tight reference run's DIR/reference/trajectory.csv; (grid, path) or (None, None)."""
+    else a tight reference run's DIR/reference/trajectory.csv; (grid, path) or (None, None). A
+    multibody reference (BODY.qw columns) is read by read_body_grid and carries "multibody": True."""
+    summary = read_json(os.path.join(root, "reference.json"))  # {} when absent
     for rel in ("reference.csv", os.path.join("reference", "trajectory.csv")):
-        g = read_grid(os.path.join(root, rel))
+        if rel != "reference.csv" and summary.get("ok") is False:
+            continue  # a failed tight run (or cross-check): compare reports no errors, nor do the figures
+        path = os.path.join(root, rel)
+        g = read_grid(path)
+        if g is None:
+            g = read_body_grid(path)
         if g is not None and g["t"].size:
             return g, rel
     return None, None
@@ -313,13 +350,31 @@ def quaternion_matrix(q):
 
 def grid_error(grid, ref):
     """(t, angle to the reference) on the grid points both share (same times to 1e-9 relative)."""
-    n = min(grid["t"].size, ref["t"].size)
-    t, tr = grid["t"][:n], ref["t"][:n]
-    ok = np.abs(t - tr) <= 1e-9 * np.maximum(1.0, np.abs(tr))
-    n = int(np.argmin(ok)) if not ok.all() else n  # stop at the first point that is not shared
+    n = shared_points(grid["t"], ref["t"])  # stop at the first point that is not shared
     q = np.stack([grid[c][:n] for c in QUATERNION], 1)
     qr = np.stack([ref[c][:n] for c in QUATERNION], 1)
-    return t[:n], quaternion_angle(q, qr)
+    return grid["t"][:n], quaternion_angle(q, qr)
+
+
+def shared_points(t, tr):
+    """How many first grid points two grids share (same times to 1e-9 relative)."""
+    n = min(t.size, tr.size)
+    ok = np.abs(t[:n] - tr[:n]) <= 1e-9 * np.maximum(1.0, np.abs(tr[:n]))
+    return int(np.argmin(ok)) if not ok.all() else n
+
+
+def body_grid_error(grid, ref):
+    """A multibody run against its reference on the grid points both share, bodies matched by name:
+    (t, the worst body's rotation angle to the reference in rad, the worst body's centre-of-mass
+    distance in m), the quantities of compare.csv's error_*_rad and error_position_*_m."""
+    n = shared_points(grid["t"], ref["t"])
+    common = [b for b in ref["bodies"] if b in grid["bodies"]]
+    angle, dist = np.zeros(n), np.zeros(n)
+    for b in common:
+        i, k = grid["bodies"].index(b), ref["bodies"].index(b)
+        angle = np.maximum(angle, quaternion_angle(grid["q"][:n, i], ref["q"][:n, k]))
+        dist = np.maximum(dist, np.linalg.norm(grid["x"][:n, i] - ref["x"][:n, k], axis=1))
+    return grid["t"][:n], angle, dist
 
 
 def body_axis_trace(grid, axis_B, npoints):
@@ -341,7 +396,18 @@ def load_series(args):
     cols = read_steps(os.path.join(folder, "steps.csv"))
     out = {"n_rows": 0, "series": {}, "stats": {}, "last": {}, "columns": sorted(cols),
            "chart_switches": read_events(os.path.join(folder, "events.csv"))}
-    grid = read_grid(os.path.join(folder, "trajectory.csv"))
+    if ref is not None and ref.get("multibody"):
+        grid = read_body_grid(os.path.join(folder, "trajectory.csv"))
+        if grid is not None and grid["t"].size:
+            te, angle, dist = body_grid_error(grid, ref)
+            for key, e in (("error", angle), ("error_position", dist)):
+                if te.size:
+                    out["series"][key] = {"max": decimate(te, e, nbins, "max")}
+                    out["stats"][key] = {"max": float(np.nanmax(e)), "p1_pos": float("nan")}
+                    out["last"][key] = (float(te[-1]), float(e[-1]))
+        grid = None
+    else:
+        grid = read_grid(os.path.join(folder, "trajectory.csv"))
     if grid is not None and grid["t"].size:
         if axis_B is not None:
             out["axis_trace"] = body_axis_trace(grid, axis_B, 4 * nbins)
@@ -586,6 +652,7 @@ class Context:
         self.constrained = [c for c in self.coords if self.has_constraints(c)]
         self.n_failed = sum(r.failed for r in self.runs)
         self.ref_grid, self.ref_source, self.axis_name, self.ref_trace = None, None, None, None
+        self.multibody = any(r.summary.get("schema_version") == 2 for r in runs)
         # Identical runs (identical_runs.py): drawn once, the others say "same as".
         order = sorted(self.runs, key=lambda r: (r.coords, r.eqs, order_key(self.styles.order)(r.scheme), r.name))
         same = identical_runs.find_identical([(r.name, r.folder, (r.coords, r.eqs)) for r in order])
@@ -832,7 +899,8 @@ def plot_per_representation(ctx, key, coords_list, filename, title, chart_switch
     if not coords_list or not any(series(r, key, mode) is not None for r in ctx.runs if r.coords in coords_list):
         return None
     fig, axes = new_figure(len(coords_list), len(ctx.eqs), sharey=True)
-    ref = ctx.ref if ctx.ref is not None and ctx.ref.coords in coords_list and key != "error" else None
+    against_ref = key in ("error", "error_position")  # the reference's error to itself is zero: not drawn
+    ref = ctx.ref if ctx.ref is not None and ctx.ref.coords in coords_list and not against_ref else None
     arrays = [series(r, key, mode)[1] for r in ctx.runs + ([ref] if ref else [])
               if r.coords in coords_list and series(r, key, mode) is not None]
     bottom, top, clipped = log_range(arrays) if log else (None, None, False)
@@ -947,10 +1015,14 @@ def plot_summary(ctx):
     # later schemes get smaller markers, so that coinciding points (the Euler-angle
     # coordinates ignore the scheme) show as concentric rings
     size = {s: max(5.0, 14.0 - 2.2 * k) for k, s in enumerate(ctx.styles.order)}
-    panels = [("error_final_rad", ctx.runs, "orientation error at the end  (rad)", "error against work"),
+    error_label = "worst body's angle at the end  (rad)" if ctx.multibody else "orientation error at the end  (rad)"
+    drift_label, energy_label = (("max |Φ| over the joints  (m or rad)", "max |H − H₀| / max(|H₀|, 1 J)")
+                                 if ctx.multibody else
+                                 ("max |Φ(q)|  (dimensionless)", "max |H − H₀| / |H₀|  (dimensionless)"))
+    panels = [("error_final_rad", ctx.runs, error_label, "error against work"),
               ("drift_position", [r for r in ctx.runs if r.coords in ctx.constrained],
-               "max |Φ(q)|  (dimensionless)", "constraint drift against work"),
-              ("energy_rel_error", ctx.runs, "max |H − H₀| / |H₀|  (dimensionless)", "energy error against work")]
+               drift_label, "constraint drift against work"),
+              ("energy_rel_error", ctx.runs, energy_label, "energy error against work")]
     if not any(r.maximum("error_final_rad") is not None and np.isfinite(r.maximum("error_final_rad"))
                for r in ctx.runs):
         panels = panels[1:]  # no reference: no errors in compare.csv
@@ -1018,7 +1090,8 @@ def plot_summary(ctx):
     if any_fail:
         handles.append(Line2D([], [], marker="x", color="black", linestyle="none", markersize=11,
                               markeredgewidth=1.5, label="failed / interrupted (maxima up to the stop)"))
-    note = ("error: angle to the reference at the end (compare.csv); drift and energy: maxima over the whole run "
+    note = (("error: the worst body's angle" if ctx.multibody else "error: angle") +
+            " to the reference at the end (compare.csv); drift and energy: maxima over the whole run "
             "(summary.json); coinciding points are drawn as concentric markers")
     if clipped:
         note += "; values below the axis bottom (incl. exact zeros) drawn at the bottom"
@@ -1170,15 +1243,33 @@ def main(argv=None):
     ctx = Context(root, runs, outdir, a.bins)
     ctx.ref_grid, ctx.axis_name = ref_grid, axis_name
     ctx.ref_source = describe_reference(root, ref_source)
-    ctx.ref_trace = body_axis_trace(ref_grid, axis_B, 4 * a.bins) if ref_grid is not None else None
+    multibody = ctx.multibody or (ref_grid is not None and ref_grid.get("multibody", False))
+    ctx.ref_trace = body_axis_trace(ref_grid, axis_B, 4 * a.bins) if ref_grid is not None and not multibody \
+        else None
     plt.rcParams.update({"font.size": 10.5, "axes.titlepad": 6})
     write_identical(ctx, os.path.join(outdir, "identical_runs.json"))
 
-    written = [
-        plot_per_representation(ctx, "error", ctx.coords, "error.png",
-                                "orientation error against time (output grid)",
-                                note=f"angle between each run's orientation and the reference "
-                                     f"({ctx.ref_source}) at every output time; largest value per time bin"),
+    if multibody:
+        error_figures = [
+            plot_per_representation(ctx, "error", ctx.coords, "error.png",
+                                    "worst body's orientation error against time (output grid)",
+                                    note=f"largest rotation angle over the bodies between run and reference "
+                                         f"({ctx.ref_source}, reference.csv) at each output time;\n"
+                                         f"largest value per time bin"),
+            plot_per_representation(ctx, "error_position", ctx.coords, "error_position.png",
+                                    "worst body's centre-of-mass error against time (output grid)",
+                                    note=f"largest centre-of-mass distance over the bodies between run and "
+                                         f"reference ({ctx.ref_source}, reference.csv) at each output time;\n"
+                                         f"largest value per time bin"),
+        ]
+    else:
+        error_figures = [
+            plot_per_representation(ctx, "error", ctx.coords, "error.png",
+                                    "orientation error against time (output grid)",
+                                    note=f"angle between each run's orientation and the reference "
+                                         f"({ctx.ref_source}) at every output time; largest value per time bin"),
+        ]
+    written = error_figures + [
         plot_per_representation(ctx, "drift_position", ctx.constrained, "drift_position.png",
                                 QUANTITY["drift_position"][1] + " at every IDA step"),
         plot_per_representation(ctx, "drift_velocity", ctx.constrained, "drift_velocity.png",

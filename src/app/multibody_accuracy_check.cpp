@@ -35,8 +35,10 @@ bool multibody_conserves_energy(const MultibodySpec& spec) {
     if (l.body_frame || l.torque.norm() > 0.0) return false;
   for (const SpringSpec& s : spec.springs)
     if (s.damping != 0.0) return false;
+  // An undamped torsional spring has its potential in potential_energy (elastic_energy);
+  // a damper dissipates c theta'^2.
   for (const JointSpec& j : spec.joints)
-    if (j.torsion_damping != 0.0 || j.torsion_stiffness != 0.0) return false;
+    if (j.torsion_damping != 0.0) return false;
   return true;
 }
 
@@ -56,8 +58,10 @@ void MultibodyInvariantMonitor::on_output(double t, const Eigen::VectorXd& y) {
     started_ = true;
     const double T0 = problem_.kinetic_energy(y.data());
     h0_ = T0 + problem_.potential_energy(y.data());
-    e_scale_ = T0 + scene_.multibody->gravity_W.norm() * size_ * mass_;
-    if (!(e_scale_ > 0.0)) e_scale_ = 1.0;  // at rest without gravity: nothing moves
+    // The springs' energy at the start can turn into motion as well (a wound
+    // torsion spring released from rest has T0 = 0).
+    e_scale_ = T0 + problem_.elastic_energy(y.data()) + scene_.multibody->gravity_W.norm() * size_ * mass_;
+    if (!(e_scale_ > 0.0)) e_scale_ = 1.0;  // at rest without gravity or springs' energy: nothing moves
     v_scale_ = std::sqrt(2.0 * e_scale_ / mass_);
     d_.tolerance = scene_.solver.rtol + scene_.solver.atol / std::min({1.0, size_, v_scale_});
   }

@@ -62,7 +62,7 @@ int compare_command(const std::vector<std::string>& args) {
   if (!quiet) fmt::print("{}", format_compare_table(report));
   if (!quiet)
     fmt::print("outputs: {}/ (compare.csv, compare.txt, compare.md, {}one folder per combination)\n", opt.out.string(),
-               report.reference.ok && !report.reference.multibody ? "reference.csv, " : "");
+               report.reference.ok ? "reference.csv, " : "");
 
   if (plot) {
     std::vector<std::string> plot_args{opt.out.string()};

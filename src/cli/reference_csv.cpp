@@ -21,10 +21,34 @@ void put(std::string& s, double x) {
 }  // namespace
 
 void write_reference_csv(const ReferenceTrajectory& ref, const std::filesystem::path& path) {
-  // A multibody reference holds its grid per body (ref.bodies): the figures
-  // read the tight run's own trajectory.csv (reference/) instead.
-  if (!ref.ok || ref.t.empty() || ref.multibody) return;
-  std::string s = fmt::format(
+  if (!ref.ok || ref.t.empty()) return;
+  std::string s;
+  if (ref.multibody) {
+    // The tight run's per-body grid, named as a multibody trajectory.csv
+    // (BODY.qw .. qz, BODY.wx .. wz, BODY.x .. z): what the error-against-time
+    // figures of a multibody compare measure every run against.
+    const BodyGrid& g = ref.bodies;
+    s = fmt::format(
+        "# units: t s; BODY.qw..qz unit quaternion of R_WB (body to space, scalar first); BODY.wx..wz rad/s space "
+        "frame; BODY.x..z centre of mass m; reference: {}\n",
+        ref.describe());
+    s += "t";
+    for (const std::string& b : g.bodies)
+      for (const char* c : {"qw", "qx", "qy", "qz", "wx", "wy", "wz", "x", "y", "z"}) s += fmt::format(",{}.{}", b, c);
+    s += '\n';
+    for (std::size_t k = 0; k < g.t.size(); ++k) {
+      put(s, g.t[k]);
+      for (std::size_t b = 0; b < g.bodies.size(); ++b) {
+        for (int i = 0; i < 4; ++i) s += ',', put(s, g.q_WB[k][b](i));
+        for (int i = 0; i < 3; ++i) s += ',', put(s, g.omega_W[k][b](i));
+        for (int i = 0; i < 3; ++i) s += ',', put(s, g.x_W[k][b](i));
+      }
+      s += '\n';
+    }
+    write_file_atomically(path, s);
+    return;
+  }
+  s = fmt::format(
       "# units: t s; qw..qz unit quaternion of R_WB (body to space, scalar first); omega_* rad/s body frame; "
       "reference: {}\n",
       ref.describe());

@@ -115,6 +115,11 @@ double MultibodyProblem::potential_energy(const double* y) {
   for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) V -= bodies_[i].mass * spec_.gravity_W.dot(body_position(i, y));
   for (const BodyLoadSpec& l : spec_.loads)
     if (!l.body_frame) V -= l.force.dot(body_position(l.body, y));
+  return V + elastic_energy(y);
+}
+
+double MultibodyProblem::elastic_energy(const double* y) {
+  double V = 0.0;
   if (y != evaluated_y_) evaluate(0.0, y, 2);
   VectorEval e;
   for (const SpringSpec& s : spec_.springs) {

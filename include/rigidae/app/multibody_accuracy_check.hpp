@@ -7,9 +7,10 @@
 // Measures (dimensionless, maxima over the accepted steps):
 //   energy               |H - H0| / E_s,  only when the scene conserves it:
 //                        no body load with a torque or in the body frame, no
-//                        spring damping, no torsional spring-damper (gravity,
-//                        undamped springs and constant space-frame forces
-//                        have a potential; ideal joints do no work)
+//                        spring damping, no torsional damping (gravity,
+//                        undamped springs, undamped torsional springs and
+//                        constant space-frame forces have a potential; ideal
+//                        joints do no work)
 //   constraint_position  max |Phi| / L    (the joints' and the bodies' own
 //                        position rows; point rows are in m, angular rows in
 //                        rad: dividing these by L too is conservative for L < 1 m)
@@ -17,8 +18,9 @@
 // Scales, from the start:
 //   L    the mechanism's size: the largest distance between two of the
 //        bodies' centres of mass and the joints' ground points (at least 1 mm)
-//   E_s  T0 + |g| L sum_i m_i  (kinetic energy plus the largest potential
-//        energy gravity can exchange over the mechanism's size)
+//   E_s  T0 + V_s0 + |g| L sum_i m_i  (kinetic energy, the springs' and
+//        torsional springs' energy V_s0, plus the largest potential energy
+//        gravity can exchange over the mechanism's size)
 //   v_s  sqrt(2 E_s / sum_i m_i), the largest speed that energy allows
 //   tau  rtol + atol / min(1, L, v_s), the relative accuracy IDA's error test
 //        asks of the least well scaled differential unknown (positions O(L),

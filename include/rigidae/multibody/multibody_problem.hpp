@@ -132,7 +132,11 @@ class MultibodyProblem final : public DaeProblem {
   // |Phi| and |G v| of a joint's rows.
   std::pair<double, double> joint_residuals(int joint, const double* y);
   double kinetic_energy(const double* y) const;
+  // Gravity, constant space-frame forces (-F . x), springs and torsional springs.
   double potential_energy(const double* y);
+  // The springs' and the torsional springs' part of it: 1/2 k stretch^2 and
+  // 1/2 k (theta - theta0)^2, theta on the branch followed from the start.
+  double elastic_energy(const double* y);
   Vec3 linear_momentum(const double* y) const;
   Vec3 angular_momentum(const double* y) const;  // about the space origin
   // One output row: per body (BODY.qw .. qz, BODY.wx .. wz in space,
