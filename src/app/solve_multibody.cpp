@@ -93,6 +93,7 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
       {"joints", scene.multibody->joints.size()},
       {"unknowns", problem.size()},
       {"nonzeros", problem.sparsity().nnz()},
+      {"factor_nonzeros", o.run.factor_nonzeros},
       {"status", to_string(o.run.status)},
       {"message", o.run.message},
       {"t_reached", o.run.t_reached},

@@ -488,6 +488,11 @@ RunResult IdaRun::finish() {
   IDAGetLastStep(ida_.mem, &result_.counters.last_step);
   IDAGetLastOrder(ida_.mem, &result_.counters.last_order);
   result_.linear_solver = opt_.linear_solver;
+  // The fill of KLU's factors: with the matrix's own nonzeros, what tells a
+  // good ordering from a bad one as the mechanism grows (bench/chain.sh).
+  if (opt_.linear_solver == "klu")
+    if (const auto* numeric = SUNLinSol_KLUGetNumeric(ida_.LS))
+      result_.factor_nonzeros = static_cast<long>(numeric->lnz + numeric->unz);
   return result_;
 }
 

@@ -54,6 +54,7 @@ struct RunResult {
   std::vector<ChartSwitch> switches;    // the first kSwitchesKept of them
   double initial_residual = 0.0;  // max |F(t0, y0, y0')|: the consistency of the start
   std::string linear_solver;      // the one Newton used: "dense" or "klu" ("auto" resolved)
+  long factor_nonzeros = 0;       // KLU: nonzeros of its last factors L + U (0: dense, or never factorised)
 };
 
 // Receives the run as it happens.
