@@ -80,7 +80,8 @@ def every_row(rows):
             evals = "–" if r["rhs_evals"] is None else f"{r['rhs_evals']:,}"
             drift = "–" if r["rel_energy_drift"] is None else f"{r['rel_energy_drift']:.1e}"
             wall = "–" if r["wall_s"] is None else f"{r['wall_s']:.3g}"
-            print(f"| {r['setting']:.0e} | {r['steps']:,} | {evals} | {wall} | {r['repeats']} | {err} | {com} | {drift} |")
+            steps = "–" if r["steps"] is None else f"{r['steps']:,}"
+            print(f"| {r['setting']:.0e} | {steps} | {evals} | {wall} | {r['repeats']} | {err} | {com} | {drift} |")
 
 
 def main():
