@@ -16,7 +16,10 @@ thread_local long g_allocations = 0;
 }  // namespace
 
 #if defined(__SANITIZE_ADDRESS__)
-#include <sanitizer/allocator_interface.h>
+// From the sanitizers' public allocator interface (clang ships it as
+// <sanitizer/allocator_interface.h>; g++ 12 has the function, not the header).
+extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile void*, std::size_t),
+                                                         void (*free_hook)(const volatile void*));
 
 namespace {
 void count_malloc(const volatile void*, std::size_t) {
