@@ -310,7 +310,10 @@ void MultibodyProblem::start(const Scene& scene) {
       const int rank = static_cast<int>(qr.rank());
       if (rank < G.rows()) {
         std::string rows;
-        const auto& perm = qr.colsPermutation().indices();
+        // SPQR's colsPermutation() is a temporary (a map over its own
+        // array): keep a copy, not a reference into it (AddressSanitizer
+        // found the dangling reference).
+        const Eigen::Matrix<SuiteSparse_long, Eigen::Dynamic, 1> perm = qr.colsPermutation().indices();
         for (int k = rank; k < G.rows(); ++k) {
           const int i = perm(k);
           rows += "\n  " + row_label(row_block[i], row_index[i]);

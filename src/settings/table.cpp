@@ -172,7 +172,7 @@ std::vector<Setting> make_table() {
        .get = [](const Scene& s) -> Value { return s.solver.jacobian; }});
   row({.scene_key = "solver.linear_solver", .option = "--linear-solver", .commands = kRun, .kind = Kind::Choice,
        .choices = linear_solver_names,
-       .help = "Newton's linear solver: auto (KLU from 200 unknowns on, a measured size; dense below and with "
+       .help = "Newton's linear solver: auto (KLU from 120 unknowns on, a measured size; dense below and with "
                "--jacobian ida_dq), dense LU or KLU sparse LU (not with --jacobian ida_dq)",
        .set = [](Scene& s, const Value& v) { s.solver.linear_solver = word(v); },
        .get = [](const Scene& s) -> Value { return s.solver.linear_solver; }});

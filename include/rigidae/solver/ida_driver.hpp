@@ -76,7 +76,7 @@ extern std::atomic<bool> g_interrupt_requested;
 // below (measured on N-link chains: bench/chain.sh --solvers dense,klu and
 // docs/benchmarks.md, "Dense or KLU"), and dense whenever KLU cannot run
 // (IDA's difference quotients fill dense matrices only).
-inline constexpr int kKluFromUnknowns = 200;
+inline constexpr int kKluFromUnknowns = 120;
 // "dense" or "klu": the linear solver a run of `problem` with `settings` uses.
 std::string resolve_linear_solver(const SolverSettings& settings, const DaeProblem& problem);
 
