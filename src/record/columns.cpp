@@ -51,13 +51,19 @@ const Column kColumns[] = {
 // Shortest text that reads back to the same double, in std::to_chars' layout
 // (shortest_double.hpp: Dragonbox's digits, half the instructions of
 // libstdc++'s to_chars, which took 29% of a recorded heavy-top run), written
-// straight into the row's buffer.
+// straight into the row's buffer; or in fmt's layout (Digits::Fmt).
+template <Digits digits>
 void put(fmt::memory_buffer& b, double x, bool first) {
-  const std::size_t at = b.size();
-  b.resize(at + 1 + record_detail::kShortestMaxBytes);  // no initialisation: only room
-  char* p = b.data() + at;
-  if (!first) *p++ = ',';
-  b.resize(static_cast<std::size_t>(record_detail::write_shortest(p, x) - b.data()));
+  if constexpr (digits == Digits::Fmt) {
+    if (!first) b.push_back(',');
+    fmt::format_to(fmt::appender(b), "{}", x);
+  } else {
+    const std::size_t at = b.size();
+    b.resize(at + 1 + record_detail::kShortestMaxBytes);  // no initialisation: only room
+    char* p = b.data() + at;
+    if (!first) *p++ = ',';
+    b.resize(static_cast<std::size_t>(record_detail::write_shortest(p, x) - b.data()));
+  }
 }
 
 bool shown(const Column& c, File file, bool with_chart) {
@@ -68,10 +74,14 @@ bool shown(const Column& c, File file, bool with_chart) {
 
 std::span<const Column> all() { return kColumns; }
 
-std::string units_line() {
+const Table kSingleBody{kColumns, Digits::ToChars};
+
+const Table& single_body() { return kSingleBody; }
+
+std::string units_line(const Table& table) {
   std::string s = "# units:";
   bool first = true;
-  for (const Column& c : all()) {
+  for (const Column& c : table.columns) {
     if (c.units.empty()) continue;
     s += first ? " " : "; ";
     s += c.units;
@@ -80,13 +90,14 @@ std::string units_line() {
   return s;
 }
 
-std::string header(File file, const std::vector<std::string>& multiplier_names, bool with_chart) {
+std::string header(const Table& table, File file, const std::vector<std::string>& multiplier_names,
+                   bool with_chart) {
   std::string s;
   auto add = [&](std::string_view name) {
     if (!s.empty()) s += ',';
     s += name;
   };
-  for (const Column& c : all()) {
+  for (const Column& c : table.columns) {
     if (!shown(c, file, with_chart)) continue;
     if (c.kind == Kind::Multipliers)
       for (const std::string& m : multiplier_names) add(m);
@@ -96,19 +107,22 @@ std::string header(File file, const std::vector<std::string>& multiplier_names, 
   return s;
 }
 
-void append_row(fmt::memory_buffer& b, File file, const Sample& s, bool with_chart) {
+namespace {
+
+template <Digits digits>
+void append_row_as(fmt::memory_buffer& b, const Table& table, File file, const Sample& s, bool with_chart) {
   bool first = true;
-  for (const Column& c : all()) {
+  for (const Column& c : table.columns) {
     if (!shown(c, file, with_chart)) continue;
     switch (c.kind) {
-      case Kind::Real: put(b, c.value(s), first); break;
+      case Kind::Real: put<digits>(b, c.value(s), first); break;
       case Kind::Integer:
         if (!first) b.push_back(',');
         fmt::format_to(fmt::appender(b), "{}", c.integer(s));
         break;
       case Kind::Multipliers: {
         const auto& m = s.observation->multipliers;
-        for (int i = 0; i < m.size(); ++i) put(b, m(i), first && i == 0);
+        for (int i = 0; i < m.size(); ++i) put<digits>(b, m(i), first && i == 0);
         if (m.size() == 0) continue;  // no column: `first` stays as it was
         break;
       }
@@ -122,9 +136,20 @@ void append_row(fmt::memory_buffer& b, File file, const Sample& s, bool with_cha
   b.push_back('\n');
 }
 
-std::vector<NpyField> npy_fields(File file, const std::vector<std::string>& multiplier_names, bool with_chart) {
+}  // namespace
+
+void append_row(fmt::memory_buffer& b, const Table& table, File file, const Sample& s, bool with_chart) {
+  // The layout is chosen once a row, not once a number.
+  if (table.digits == Digits::Fmt)
+    append_row_as<Digits::Fmt>(b, table, file, s, with_chart);
+  else
+    append_row_as<Digits::ToChars>(b, table, file, s, with_chart);
+}
+
+std::vector<NpyField> npy_fields(const Table& table, File file, const std::vector<std::string>& multiplier_names,
+                                 bool with_chart) {
   std::vector<NpyField> f;
-  for (const Column& c : all()) {
+  for (const Column& c : table.columns) {
     if (!shown(c, file, with_chart)) continue;
     switch (c.kind) {
       case Kind::Real: f.push_back({std::string(c.name), "<f8", 8}); break;
@@ -147,8 +172,8 @@ void put_binary(fmt::memory_buffer& b, T x) {
 }
 }  // namespace
 
-void append_binary_row(fmt::memory_buffer& b, File file, const Sample& s, bool with_chart) {
-  for (const Column& c : all()) {
+void append_binary_row(fmt::memory_buffer& b, const Table& table, File file, const Sample& s, bool with_chart) {
+  for (const Column& c : table.columns) {
     if (!shown(c, file, with_chart)) continue;
     switch (c.kind) {
       case Kind::Real: put_binary(b, c.value(s)); break;
