@@ -137,51 +137,42 @@ void check(int flag, const char* what) {
   if (flag < 0) throw SolverError(fmt::format("{} failed: flag {}", what, flag));
 }
 
-// The calls of CVODE and of ARKODE's ERKStep that differ only in name
-// (SUNDIALS 6.4: the same arguments, the same flags), for SundialsStepper.
+// The functions of CVODE and of ARKODE's ERKStep that differ only in their
+// prefix (SUNDIALS 6.4: the same arguments, the same flags), with the names
+// that errors report; for SundialsStepper.
+#define RIGIDAE_SHARED_CALLS(PREFIX)                                   \
+  static constexpr auto tolerances = &PREFIX##SVtolerances;            \
+  static constexpr auto user_data = &PREFIX##SetUserData;              \
+  static constexpr auto stop_time = &PREFIX##SetStopTime;              \
+  static constexpr auto root_init = &PREFIX##RootInit;                 \
+  static constexpr const char* kTolerances = #PREFIX "SVtolerances";   \
+  static constexpr const char* kUserData = #PREFIX "SetUserData";      \
+  static constexpr const char* kStopTime = #PREFIX "SetStopTime";      \
+  static constexpr const char* kRootInit = #PREFIX "RootInit";         \
+  static constexpr auto flag_name = &PREFIX##GetReturnFlagName;        \
+  static constexpr auto dky = &PREFIX##GetDky;                         \
+  static constexpr auto last_step = &PREFIX##GetLastStep;              \
+  static constexpr auto current_time = &PREFIX##GetCurrentTime;        \
+  static constexpr auto num_steps = &PREFIX##GetNumSteps;              \
+  static constexpr auto num_rhs_evals = &PREFIX##GetNumRhsEvals;       \
+  static constexpr auto num_error_test_fails = &PREFIX##GetNumErrTestFails; \
+  static constexpr auto num_root_evals = &PREFIX##GetNumGEvals;
+
 struct CvodeCalls {
-  static constexpr auto tolerances = &CVodeSVtolerances;
-  static constexpr auto user_data = &CVodeSetUserData;
-  static constexpr auto stop_time = &CVodeSetStopTime;
-  static constexpr auto root_init = &CVodeRootInit;
-  static constexpr const char* kTolerances = "CVodeSVtolerances";
-  static constexpr const char* kUserData = "CVodeSetUserData";
-  static constexpr const char* kStopTime = "CVodeSetStopTime";
-  static constexpr const char* kRootInit = "CVodeRootInit";
+  RIGIDAE_SHARED_CALLS(CVode)
   static int one_step(void* mem, double t_end, N_Vector x, double& t) { return CVode(mem, t_end, x, &t, CV_ONE_STEP); }
   static constexpr int kRootReturn = CV_ROOT_RETURN;
-  static constexpr auto flag_name = &CVodeGetReturnFlagName;
-  static constexpr auto dky = &CVodeGetDky;
-  static constexpr auto last_step = &CVodeGetLastStep;
-  static constexpr auto current_time = &CVodeGetCurrentTime;
-  static constexpr auto num_steps = &CVodeGetNumSteps;
-  static constexpr auto num_rhs_evals = &CVodeGetNumRhsEvals;
-  static constexpr auto num_error_test_fails = &CVodeGetNumErrTestFails;
-  static constexpr auto num_root_evals = &CVodeGetNumGEvals;
 };
 
 struct ErkStepCalls {
-  static constexpr auto tolerances = &ERKStepSVtolerances;
-  static constexpr auto user_data = &ERKStepSetUserData;
-  static constexpr auto stop_time = &ERKStepSetStopTime;
-  static constexpr auto root_init = &ERKStepRootInit;
-  static constexpr const char* kTolerances = "ERKStepSVtolerances";
-  static constexpr const char* kUserData = "ERKStepSetUserData";
-  static constexpr const char* kStopTime = "ERKStepSetStopTime";
-  static constexpr const char* kRootInit = "ERKStepRootInit";
+  RIGIDAE_SHARED_CALLS(ERKStep)
   static int one_step(void* mem, double t_end, N_Vector x, double& t) {
     return ERKStepEvolve(mem, t_end, x, &t, ARK_ONE_STEP);
   }
   static constexpr int kRootReturn = ARK_ROOT_RETURN;
-  static constexpr auto flag_name = &ERKStepGetReturnFlagName;
-  static constexpr auto dky = &ERKStepGetDky;
-  static constexpr auto last_step = &ERKStepGetLastStep;
-  static constexpr auto current_time = &ERKStepGetCurrentTime;
-  static constexpr auto num_steps = &ERKStepGetNumSteps;
-  static constexpr auto num_rhs_evals = &ERKStepGetNumRhsEvals;
-  static constexpr auto num_error_test_fails = &ERKStepGetNumErrTestFails;
-  static constexpr auto num_root_evals = &ERKStepGetNumGEvals;
 };
+
+#undef RIGIDAE_SHARED_CALLS
 
 // What CVODE and ERKStep do alike, once: the shared settings, the step, the
 // interpolant, the step size and time, the shared counters. `Calls` names the
