@@ -110,9 +110,10 @@ std::string header(const Table& table, File file, const std::vector<std::string>
 namespace {
 
 template <Digits digits>
-void append_row_as(fmt::memory_buffer& b, const Table& table, File file, const Sample& s, bool with_chart) {
+void append_row_as(fmt::memory_buffer& b, std::span<const Column> columns, File file, const Sample& s,
+                   bool with_chart) {
   bool first = true;
-  for (const Column& c : table.columns) {
+  for (const Column& c : columns) {
     if (!shown(c, file, with_chart)) continue;
     switch (c.kind) {
       case Kind::Real: put<digits>(b, c.value(s), first); break;
@@ -139,11 +140,15 @@ void append_row_as(fmt::memory_buffer& b, const Table& table, File file, const S
 }  // namespace
 
 void append_row(fmt::memory_buffer& b, const Table& table, File file, const Sample& s, bool with_chart) {
-  // The layout is chosen once a row, not once a number.
-  if (table.digits == Digits::Fmt)
-    append_row_as<Digits::Fmt>(b, table, file, s, with_chart);
+  // The layout is chosen once a row, not once a number. The single-body
+  // table goes in as the constant array it is: the compiler then sees its
+  // columns (a recorded step's row costs 0.5% fewer instructions).
+  if (&table == &kSingleBody)
+    append_row_as<Digits::ToChars>(b, kColumns, file, s, with_chart);
+  else if (table.digits == Digits::Fmt)
+    append_row_as<Digits::Fmt>(b, table.columns, file, s, with_chart);
   else
-    append_row_as<Digits::ToChars>(b, table, file, s, with_chart);
+    append_row_as<Digits::ToChars>(b, table.columns, file, s, with_chart);
 }
 
 std::vector<NpyField> npy_fields(const Table& table, File file, const std::vector<std::string>& multiplier_names,
@@ -164,16 +169,17 @@ std::vector<NpyField> npy_fields(const Table& table, File file, const std::vecto
 }
 
 namespace {
+// x's bytes at the end of b (resize, then copy: cheaper than append's loop).
 template <typename T>
 void put_binary(fmt::memory_buffer& b, T x) {
-  char bytes[sizeof(T)];
-  std::memcpy(bytes, &x, sizeof(T));
-  b.append(bytes, bytes + sizeof(T));
+  const std::size_t at = b.size();
+  b.resize(at + sizeof(T));
+  std::memcpy(b.data() + at, &x, sizeof(T));
 }
-}  // namespace
 
-void append_binary_row(fmt::memory_buffer& b, const Table& table, File file, const Sample& s, bool with_chart) {
-  for (const Column& c : table.columns) {
+void append_binary_row_of(fmt::memory_buffer& b, std::span<const Column> columns, File file, const Sample& s,
+                          bool with_chart) {
+  for (const Column& c : columns) {
     if (!shown(c, file, with_chart)) continue;
     switch (c.kind) {
       case Kind::Real: put_binary(b, c.value(s)); break;
@@ -191,6 +197,16 @@ void append_binary_row(fmt::memory_buffer& b, const Table& table, File file, con
       }
     }
   }
+}
+
+}  // namespace
+
+void append_binary_row(fmt::memory_buffer& b, const Table& table, File file, const Sample& s, bool with_chart) {
+  // As append_row: the single-body table as its constant array.
+  if (&table == &kSingleBody)
+    append_binary_row_of(b, kColumns, file, s, with_chart);
+  else
+    append_binary_row_of(b, table.columns, file, s, with_chart);
 }
 
 bool is_multiplier(std::string_view n) { return n.rfind("lambda_", 0) == 0 || n.rfind("mu_", 0) == 0; }
