@@ -310,9 +310,11 @@ void MultibodyProblem::start(const Scene& scene) {
       const int rank = static_cast<int>(qr.rank());
       if (rank < G.rows()) {
         std::string rows;
-        const auto& perm = qr.colsPermutation().indices();
+        // A copy: Eigen's SPQR returns the permutation by value (a reference
+        // to its indices dangled; ASan's stack-use-after-scope, found by fuzzing).
+        const auto perm = qr.colsPermutation();
         for (int k = rank; k < G.rows(); ++k) {
-          const int i = perm(k);
+          const int i = perm.indices()(k);
           rows += "\n  " + row_label(row_block[i], row_index[i]);
         }
         throw InputError(fmt::format(
