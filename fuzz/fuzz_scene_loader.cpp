@@ -21,31 +21,21 @@
 #include "rigidae/dae/dae_system.hpp"
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
+#include "fuzz_check.hpp"
+
+const char* const rigidae_fuzz::kTarget = "fuzz_scene_loader";
 
 namespace {
 
 using namespace rigidae;
 
-void require(bool ok, const char* what) {
-  if (ok) return;
-  std::fprintf(stderr, "fuzz_scene_loader: finding: %s\n", what);
-  std::abort();
-}
+using rigidae_fuzz::require;
 
 // The form the CLI and the docs promise for every scene-file error.
 void check_message(const std::string& m) {
-  std::size_t i = std::string("fuzz.toml:").size();
+  const std::size_t i = std::string("fuzz.toml:").size();
   require(m.compare(0, i, "fuzz.toml:") == 0, "an error message without the file name");
-  for (int field = 0; field < 2; ++field) {
-    const std::size_t digits = i;
-    while (i < m.size() && m[i] >= '0' && m[i] <= '9') ++i;
-    require(i > digits && i < m.size() && m[i] == ':' && m[digits] != '0', "an error message without LINE:COL");
-    ++i;
-  }
-  require(m.compare(i, 8, " error: ") == 0, "an error message without ' error: '");
-  require(m.size() < 2000, "an error message over 2000 bytes");
-  for (char c : m)
-    require(static_cast<unsigned char>(c) >= 0x20 && c != 0x7f, "a control character in an error message");
+  rigidae_fuzz::check_message_after_file(m, i);
 }
 
 void check_valid(const Scene& s) {

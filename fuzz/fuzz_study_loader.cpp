@@ -22,6 +22,9 @@
 
 #include "rigidae/app/study.hpp"
 #include "rigidae/core/error.hpp"
+#include "fuzz_check.hpp"
+
+const char* const rigidae_fuzz::kTarget = "fuzz_study_loader";
 
 namespace {
 
@@ -30,27 +33,13 @@ namespace fs = std::filesystem;
 
 fs::path g_study;  // the scratch study file
 
-void require(bool ok, const char* what) {
-  if (ok) return;
-  std::fprintf(stderr, "fuzz_study_loader: finding: %s\n", what);
-  std::abort();
-}
+using rigidae_fuzz::require;
 
 // "SOMEFILE:LINE:COL: error: ..." on one printable line.
 void check_message(const std::string& m) {
   const std::size_t colon = m.find(".toml:");
   require(colon != std::string::npos, "an error message without a .toml file name");
-  std::size_t i = colon + 6;
-  for (int field = 0; field < 2; ++field) {
-    const std::size_t digits = i;
-    while (i < m.size() && m[i] >= '0' && m[i] <= '9') ++i;
-    require(i > digits && i < m.size() && m[i] == ':' && m[digits] != '0', "an error message without LINE:COL");
-    ++i;
-  }
-  require(m.compare(i, 8, " error: ") == 0, "an error message without ' error: '");
-  require(m.size() < 2000, "an error message over 2000 bytes");
-  for (char c : m)
-    require(static_cast<unsigned char>(c) >= 0x20 && c != 0x7f, "a control character in an error message");
+  rigidae_fuzz::check_message_after_file(m, colon + 6);
 }
 
 void check_spec(const StudySpec& s) {

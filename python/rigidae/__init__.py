@@ -196,7 +196,20 @@ _EVENT_DTYPE = [("t", np.float64), ("event", "<U12"), ("from", "<U3"), ("to", "<
                 ("drift_position", np.float64), ("drift_velocity", np.float64)]
 
 
-class Run:
+class _RunOutcome:
+    """What Run and MultibodyRun share: the status and the integrator's counters."""
+
+    @property
+    def ok(self):
+        return self.status == "success"
+
+    @property
+    def counters(self):
+        """The integrator's counters (summary['counters'])."""
+        return self.summary["counters"]
+
+
+class Run(_RunOutcome):
     """One run's results (what `rigidae solve` writes, in memory).
 
     summary  dict: summary.json (configuration, status, counters, maxima, final state)
@@ -228,15 +241,6 @@ class Run:
         self.events = np.array([tuple(e) for e in raw["events"]], dtype=_EVENT_DTYPE)
 
     @property
-    def ok(self):
-        return self.status == "success"
-
-    @property
-    def counters(self):
-        """IDA's counters (summary['counters'])."""
-        return self.summary["counters"]
-
-    @property
     def final(self):
         """The state at the last step (summary['final'])."""
         return self.summary["final"]
@@ -247,7 +251,7 @@ class Run:
                 f"t = {self.summary['t_reached']:g} s, {c['steps']} steps, {self.summary['wall_time_s']:.3g} s>")
 
 
-class MultibodyRun:
+class MultibodyRun(_RunOutcome):
     """One run of a multibody scene (schema_version 2), in memory.
 
     grid       numpy structured array on the output grid: the columns of the
@@ -283,14 +287,6 @@ class MultibodyRun:
         self.steps = _structured(raw["step_columns"], raw["steps"], [], ("order",)) if record == "steps" else None
         self.grid = _structured(raw["grid_columns"], raw["grid"], [], ()) if record != "none" else None
         self.events = list(raw["events"])
-
-    @property
-    def ok(self):
-        return self.status == "success"
-
-    @property
-    def counters(self):
-        return self.summary["counters"]
 
     def _columns(self, prefix, names):
         if self.grid is None:

@@ -421,7 +421,7 @@ PYBIND11_MODULE(_core, m) {
   m.def("parse_scene", &io::parse_scene, py::arg("text"), py::arg("source_name"));
   m.def("scheme_names", &scheme_names);
   m.def("scene_options", &scene_options, py::arg("command"));
-  m.def("units_line", &columns::units_line);
+  m.def("units_line", [] { return columns::units_line(); });
   m.def("solve", &solve, py::arg("scene"), py::arg("record"), py::arg("out"));
   m.def("solve_multibody", &solve_multibody, py::arg("scene"), py::arg("record"), py::arg("out"));
   m.def("compare", &compare, py::arg("scene"), py::arg("args"), py::arg("out"), py::arg("progress"));

@@ -5,44 +5,19 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <fstream>
 #include <limits>
-#include <sstream>
 
 #include "rigidae/core/error.hpp"
+#include "rigidae/record/trajectory_csv.hpp"
 #include "rigidae/so3/rotation.hpp"
 
 namespace rigidae {
 
-namespace {
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> cells;
-  std::istringstream row(line);
-  std::string cell;
-  while (std::getline(row, cell, ',')) cells.push_back(cell);
-  return cells;
-}
-
-}  // namespace
-
 BodyGrid read_body_grid(const std::filesystem::path& csv) {
-  std::ifstream in(csv);
-  if (!in) throw InputError(fmt::format("{}: cannot read", csv.string()));
-  std::string line;
-  std::vector<std::string> header;
-  while (std::getline(in, line))
-    if (!line.empty() && line[0] != '#') {
-      header = split(line);
-      break;
-    }
-  if (header.empty() || header[0] != "t") throw InputError(fmt::format("{}: no header line starting with t", csv.string()));
-  auto column = [&](const std::string& name) {
-    const auto it = std::find(header.begin(), header.end(), name);
-    if (it == header.end()) throw InputError(fmt::format("{}: no column '{}' in the header", csv.string(), name));
-    return static_cast<std::size_t>(it - header.begin());
-  };
+  CsvRows rows(csv);
+  const std::vector<std::string>& header = rows.header();
+  if (header.empty() || header[0] != "t")
+    throw InputError(fmt::format("{}: no header line starting with t", csv.string()));
   BodyGrid g;
   const std::string suffix = ".qw";
   for (const std::string& h : header)
@@ -51,14 +26,12 @@ BodyGrid read_body_grid(const std::filesystem::path& csv) {
   if (g.bodies.empty()) throw InputError(fmt::format("{}: no BODY.qw column: not a multibody trajectory", csv.string()));
   std::vector<std::size_t> cq, cx, cw;
   for (const std::string& b : g.bodies) {
-    cq.push_back(column(b + ".qw"));
-    cx.push_back(column(b + ".x"));
-    cw.push_back(column(b + ".wx"));
+    cq.push_back(rows.column(b + ".qw"));
+    cx.push_back(rows.column(b + ".x"));
+    cw.push_back(rows.column(b + ".wx"));
   }
-  while (std::getline(in, line)) {
-    const std::vector<std::string> cells = split(line);
-    if (cells.size() < header.size()) break;  // a row cut short: the rows before it stand
-    auto v = [&](std::size_t k) { return std::strtod(cells[k].c_str(), nullptr); };
+  while (rows.next()) {
+    auto v = [&](std::size_t k) { return rows.value(k); };
     g.t.push_back(v(0));
     std::vector<Vec4> q;
     std::vector<Vec3> x, w;

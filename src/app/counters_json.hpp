@@ -1,8 +1,12 @@
 #pragma once
-// IDA's counters as summary.json writes them, for every kind of run (one
-// body or many), so the two summaries cannot drift apart.
+// IDA's counters and the accuracy check's warnings as summary.json writes
+// them, for every kind of run (one body or many), so the two summaries cannot
+// drift apart.
 #include <nlohmann/json.hpp>
 
+#include <vector>
+
+#include "rigidae/app/accuracy_check.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 
 namespace rigidae {
@@ -21,6 +25,18 @@ inline nlohmann::json counters_json(const IdaCounters& c) {
           {"projections", c.projections},
           {"last_step", c.last_step},
           {"last_order", c.last_order}};
+}
+
+inline nlohmann::json warnings_json(const std::vector<AccuracyWarning>& warnings) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const AccuracyWarning& w : warnings)
+    a.push_back({{"quantity", w.quantity},
+                 {"drift", w.drift},
+                 {"limit", w.limit},
+                 {"factor", w.factor},
+                 {"tolerance", w.tolerance},
+                 {"message", w.message}});
+  return a;
 }
 
 }  // namespace rigidae

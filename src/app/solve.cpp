@@ -102,18 +102,6 @@ nlohmann::json accuracy_check_json(const SolveOutcome& o) {
           {"definitions", "maxima over the steps; see include/rigidae/app/accuracy_check.hpp"}};
 }
 
-nlohmann::json warnings_json(const std::vector<AccuracyWarning>& warnings) {
-  nlohmann::json a = nlohmann::json::array();
-  for (const AccuracyWarning& w : warnings)
-    a.push_back({{"quantity", w.quantity},
-                 {"drift", w.drift},
-                 {"limit", w.limit},
-                 {"factor", w.factor},
-                 {"tolerance", w.tolerance},
-                 {"message", w.message}});
-  return a;
-}
-
 nlohmann::json summary(const Scene& scene, const SolveOutcome& o) {
   const IdaCounters& c = o.run.counters;
   const Observation& f = o.extremes.last;

@@ -62,14 +62,6 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
   o.extremes.max_abs_energy_error = recorder.max_abs_energy_rel_error();
   o.drifts = monitor.drifts();
   o.warnings = monitor.warnings();
-  nlohmann::json accuracy_warnings = nlohmann::json::array();
-  for (const AccuracyWarning& w : o.warnings)
-    accuracy_warnings.push_back({{"quantity", w.quantity},
-                                 {"drift", w.drift},
-                                 {"limit", w.limit},
-                                 {"factor", w.factor},
-                                 {"tolerance", w.tolerance},
-                                 {"message", w.message}});
 
   const IdaCounters& c = o.run.counters;
   nlohmann::json j = {
@@ -104,7 +96,7 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
       {"linear_solver", o.run.linear_solver},  // the one used ("auto" resolved by size)
       {"linear_solver_setting", scene.solver.linear_solver},
       {"start_warnings", problem.warnings()},
-      {"warnings", accuracy_warnings},
+      {"warnings", warnings_json(o.warnings)},
       {"accuracy_check",
        {{"tolerance", o.drifts.tolerance},
         {"energy", number_or_null(o.drifts.energy)},

@@ -1,12 +1,12 @@
 #include "rigidae/record/multibody_recorder.hpp"
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <iterator>
 #include <cmath>
-#include <cstdint>
+
+#include "rigidae/record/columns.hpp"
 
 namespace rigidae {
 
@@ -35,19 +35,28 @@ std::string units_comment(const multibody::MultibodyProblem& p) {
              "for angular rows), phi_dot |G v|";
 }
 
-constexpr const char* kStepColumns[] = {"t", "h", "order", "drift_position", "drift_velocity", "energy",
-                                         "energy_rel_error"};
+// steps.csv / steps.npy: a row per accepted step. Drift is the largest over
+// the constraint rows; energy the total H with its error against the start.
+const Observation& obs(const columns::Sample& s) { return *s.observation; }
 
-std::vector<NpyField> step_fields() {
-  std::vector<NpyField> f;
-  for (const char* name : kStepColumns) f.push_back({name, std::string(name) == "order" ? "<i8" : "<f8", 8});
-  return f;
-}
+const columns::Column kStepColumns[] = {
+    {"t", "t s", columns::kSteps, columns::Kind::Real, [](const columns::Sample& s) { return s.t; }, nullptr},
+    {"h", "h s", columns::kSteps, columns::Kind::Real, [](const columns::Sample& s) { return s.h; }, nullptr},
+    {"order", "", columns::kSteps, columns::Kind::Integer, nullptr,
+     [](const columns::Sample& s) { return static_cast<long>(s.order); }},
+    {"drift_position", "drift_position max |Phi| (m or 1)", columns::kSteps, columns::Kind::Real,
+     [](const columns::Sample& s) { return obs(s).drift.position; }, nullptr},
+    {"drift_velocity", "drift_velocity max |G v|", columns::kSteps, columns::Kind::Real,
+     [](const columns::Sample& s) { return obs(s).drift.velocity; }, nullptr},
+    {"energy", "energy J", columns::kSteps, columns::Kind::Real, [](const columns::Sample& s) { return obs(s).energy; },
+     nullptr},
+    {"energy_rel_error", "energy_rel_error (H - H0)/max(|H0|, 1 J)", columns::kSteps, columns::Kind::Real,
+     [](const columns::Sample& s) { return obs(s).energy_error; }, nullptr},
+};
 
-void remove_stale(const std::filesystem::path& path) {
-  std::error_code ec;
-  std::filesystem::remove(path, ec);
-}
+// Numbers in fmt's layout, as in trajectory.csv (and as multibody steps.csv
+// always had them: the files stay byte for byte what earlier runs wrote).
+const columns::Table kStepTable{kStepColumns, columns::Digits::Fmt};
 
 }  // namespace
 
@@ -57,26 +66,11 @@ MultibodyRecorder::MultibodyRecorder(multibody::MultibodyProblem& problem, const
       events_(out_dir / "events.csv",
               "# units: t s; margin |det B| of the chart left (chart_switch), 1; drift_position and "
               "drift_velocity just before a projection",
-              "t,event,body,from,to,margin,drift_position,drift_velocity") {
+              "t,event,body,from,to,margin,drift_position,drift_velocity"),
+      steps_(kStepTable, {}, false, output, out_dir),
+      trajectory_(open_csv_if(output.record != RecordMode::None, out_dir / "trajectory.csv", units_comment(problem),
+                              "t," + join(problem.output_names(), ","))) {
   start_is_output_ = time.output_times.empty() || time.output_times.front() == time.start;
-  const bool steps = output.record == RecordMode::Steps;
-  if (steps && output.step_format == StepFormat::Csv)
-    steps_ = std::make_unique<CsvStream>(
-        out_dir / "steps.csv",
-        "# units: t s; h s; drift_position max |Phi| (m or 1); drift_velocity max |G v|; energy J; "
-        "energy_rel_error (H - H0)/max(|H0|, 1 J)",
-        fmt::format("{}", fmt::join(std::begin(kStepColumns), std::end(kStepColumns), ",")));
-  else
-    remove_stale(out_dir / "steps.csv");
-  if (steps && output.step_format == StepFormat::Npy)
-    steps_npy_ = std::make_unique<NpyFile>(out_dir / "steps.npy", step_fields());
-  else
-    remove_stale(out_dir / "steps.npy");
-  if (output.record != RecordMode::None)
-    trajectory_ = std::make_unique<CsvStream>(out_dir / "trajectory.csv", units_comment(problem),
-                                              "t," + join(problem.output_names(), ","));
-  else
-    remove_stale(out_dir / "trajectory.csv");
   row_.resize(problem.output_names().size());
   const std::vector<std::string> names = problem.output_names();
   energy_column_ = static_cast<int>(std::find(names.begin(), names.end(), "energy") - names.begin());
@@ -92,15 +86,12 @@ void MultibodyRecorder::on_step(double t, double h, int order, const Eigen::Vect
   max_drift_velocity_ = std::max(max_drift_velocity_, vel);
   max_energy_error_ = std::max(max_energy_error_, std::abs(err));
   last_energy_ = H;
-  if (steps_) steps_->file().write(fmt::format("{},{},{},{},{},{},{}\n", t, h, order, pos, vel, H, err));
-  if (steps_npy_) {
-    struct Row {
-      double t, h;
-      std::int64_t order;
-      double pos, vel, H, err;
-    } row{t, h, order, pos, vel, H, err};
-    static_assert(sizeof(Row) == sizeof(kStepColumns) / sizeof(kStepColumns[0]) * 8, "packed as the fields say");
-    steps_npy_->write_row(reinterpret_cast<const char*>(&row));
+  if (steps_) {
+    Observation o;
+    o.drift = {pos, vel};
+    o.energy = H;
+    o.energy_error = err;
+    steps_.write({t, h, order, &o, {}});
   }
 }
 
@@ -124,26 +115,16 @@ void MultibodyRecorder::on_event(const EventNote& n) {
 }
 
 void MultibodyRecorder::flush() {
-  if (steps_) steps_->flush();
-  if (steps_npy_) steps_npy_->flush();
+  steps_.flush();
   if (trajectory_) trajectory_->flush();
   events_.flush();
 }
 
 void MultibodyRecorder::close() {
-  std::string first;
-  auto attempt = [&](auto&& close_one) {
-    try {
-      close_one();
-    } catch (const OutputError& e) {
-      if (first.empty()) first = e.what();
-    }
-  };
-  if (steps_) attempt([&] { steps_->close(); });
-  if (steps_npy_) attempt([&] { steps_npy_->close(); });
-  if (trajectory_) attempt([&] { trajectory_->close(); });
-  attempt([&] { events_.close(); });
-  if (!first.empty()) throw OutputError(first);
+  CloseEach each;
+  each([&] { steps_.close(); });
+  if (trajectory_) each([&] { trajectory_->close(); });
+  each([&] { events_.close(); }).rethrow_first();
 }
 
 }  // namespace rigidae

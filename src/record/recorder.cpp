@@ -31,24 +31,27 @@ void remove_stale(const std::filesystem::path& path) {
   std::filesystem::remove(path, ec);
 }
 
-std::unique_ptr<CsvStream> csv_if(bool wanted, const std::filesystem::path& path, const std::string& units,
-                                  const std::string& header) {
-  if (!wanted) {
-    remove_stale(path);
-    return nullptr;
-  }
-  return std::make_unique<CsvStream>(path, units, header);
-}
-
-std::unique_ptr<NpyFile> npy_if(bool wanted, const std::filesystem::path& path, std::vector<NpyField> fields) {
-  if (!wanted) {
-    remove_stale(path);
-    return nullptr;
-  }
-  return std::make_unique<NpyFile>(path, std::move(fields));
-}
-
 }  // namespace
+
+std::unique_ptr<CsvStream> open_csv_if(bool wanted, const std::filesystem::path& path,
+                                       const std::string& units_comment, const std::string& header) {
+  if (wanted) return std::make_unique<CsvStream>(path, units_comment, header);
+  remove_stale(path);
+  return nullptr;
+}
+
+StepFile::StepFile(const columns::Table& table, const std::vector<std::string>& multiplier_names, bool with_chart,
+                   const OutputSettings& output, const std::filesystem::path& out_dir)
+    : table_(table), with_chart_(with_chart) {
+  const bool steps = output.record == RecordMode::Steps;
+  csv_ = open_csv_if(steps && output.step_format == StepFormat::Csv, out_dir / "steps.csv",
+                     columns::units_line(table), columns::header(table, columns::kSteps, multiplier_names, with_chart));
+  const std::filesystem::path npy = out_dir / "steps.npy";
+  if (steps && output.step_format == StepFormat::Npy)
+    npy_ = std::make_unique<NpyFile>(npy, columns::npy_fields(table, columns::kSteps, multiplier_names, with_chart));
+  else
+    remove_stale(npy);
+}
 
 RunRecorder::RunRecorder(const ChartState& problem, const Scene& scene, const std::filesystem::path& out_dir)
     : problem_(problem),
@@ -56,13 +59,10 @@ RunRecorder::RunRecorder(const ChartState& problem, const Scene& scene, const st
       with_chart_(problem.representation().has_charts()),
       step_observer_(problem.system(), scene),
       grid_observer_(problem.system(), scene),
-      steps_csv_(csv_if(scene.output.record == RecordMode::Steps && scene.output.step_format == StepFormat::Csv,
-                        out_dir / "steps.csv", columns::units_line(),
-                        columns::header(columns::kSteps, multiplier_names_, with_chart_))),
-      steps_npy_(npy_if(scene.output.record == RecordMode::Steps && scene.output.step_format == StepFormat::Npy,
-                        out_dir / "steps.npy", columns::npy_fields(columns::kSteps, multiplier_names_, with_chart_))),
-      trajectory_(csv_if(scene.output.record != RecordMode::None, out_dir / "trajectory.csv", columns::units_line(),
-                         columns::header(columns::kTrajectory, multiplier_names_, with_chart_))),
+      steps_(columns::single_body(), multiplier_names_, with_chart_, scene.output, out_dir),
+      trajectory_(open_csv_if(scene.output.record != RecordMode::None, out_dir / "trajectory.csv",
+                              columns::units_line(),
+                              columns::header(columns::kTrajectory, multiplier_names_, with_chart_))),
       events_(out_dir / "events.csv",
               "# units: t s; margin |det B| of the chart left (chart_switch), 1; drift_position |Phi| 1 and "
               "drift_velocity |dPhi/dt| 1/s just before a projection",
@@ -80,21 +80,11 @@ void RunRecorder::write_row(CheckedStream& f, columns::File file, const columns:
   f.write(b.data(), b.size());
 }
 
-void RunRecorder::write_binary_row(NpyFile& f, const columns::Sample& sample) {
-  fmt::memory_buffer b;
-  columns::append_binary_row(b, columns::kSteps, sample, with_chart_);
-  f.write_row(b.data());
-}
-
 void RunRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& y) {
   const Observation o = step_observer_.observe(t, y, problem_.chart());
-  if (steps_csv_ || steps_npy_) {
+  if (steps_) {
     const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
-    const columns::Sample sample{t, h, order, &o, chart};
-    if (steps_csv_)
-      write_row(steps_csv_->file(), columns::kSteps, sample);
-    else
-      write_binary_row(*steps_npy_, sample);
+    steps_.write({t, h, order, &o, chart});
   }
   extremes_.add_step(o);
 }
@@ -119,26 +109,16 @@ void RunRecorder::on_event(const EventNote& e) {
 }
 
 void RunRecorder::flush() {
-  if (steps_csv_) steps_csv_->flush();
-  if (steps_npy_) steps_npy_->flush();
+  steps_.flush();
   if (trajectory_) trajectory_->flush();
   events_.flush();
 }
 
 void RunRecorder::close() {
-  std::string first;
-  auto attempt = [&](auto&& close_one) {
-    try {
-      close_one();
-    } catch (const OutputError& e) {
-      if (first.empty()) first = e.what();
-    }
-  };
-  if (steps_csv_) attempt([&] { steps_csv_->close(); });
-  if (steps_npy_) attempt([&] { steps_npy_->close(); });
-  if (trajectory_) attempt([&] { trajectory_->close(); });
-  attempt([&] { events_.close(); });
-  if (!first.empty()) throw OutputError(first);
+  CloseEach each;
+  each([&] { steps_.close(); });
+  if (trajectory_) each([&] { trajectory_->close(); });
+  each([&] { events_.close(); }).rethrow_first();
 }
 
 }  // namespace rigidae

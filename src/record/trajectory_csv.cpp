@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 
 #include "rigidae/core/error.hpp"
@@ -14,29 +13,44 @@ namespace rigidae {
 
 namespace {
 
-std::vector<std::string> split_csv_line(const std::string& line) {
-  std::vector<std::string> cells;
+// Fills `cells` with the line's comma-separated cells (a trailing empty cell is none).
+void split_csv_line(const std::string& line, std::vector<std::string>& cells) {
+  cells.clear();
   std::istringstream row(line);
   std::string cell;
   while (std::getline(row, cell, ',')) cells.push_back(cell);
-  return cells;
 }
 
 }  // namespace
 
+CsvRows::CsvRows(const std::filesystem::path& csv) : path_(csv), in_(csv) {
+  if (!in_) throw InputError(fmt::format("{}: cannot read", csv.string()));
+  while (std::getline(in_, line_))
+    if (!line_.empty() && line_[0] != '#') {
+      split_csv_line(line_, header_);
+      break;
+    }
+}
+
+std::size_t CsvRows::column(const std::string& name) const {
+  const auto it = std::find(header_.begin(), header_.end(), name);
+  if (it == header_.end()) throw InputError(fmt::format("{}: no column '{}' in the header", path_.string(), name));
+  return static_cast<std::size_t>(it - header_.begin());
+}
+
+bool CsvRows::next() {
+  if (!std::getline(in_, line_)) return false;
+  split_csv_line(line_, cells_);
+  return cells_.size() >= header_.size();
+}
+
+double CsvRows::value(std::size_t k) const { return std::strtod(cells_[k].c_str(), nullptr); }
+
 GridTrajectory read_trajectory_csv(const std::filesystem::path& csv) {
-  std::ifstream in(csv);
-  if (!in) throw InputError(fmt::format("{}: cannot read", csv.string()));
-  std::string line;
-  std::getline(in, line);  // units comment
-  if (!std::getline(in, line)) throw InputError(fmt::format("{}: no header line", csv.string()));
-  const std::vector<std::string> header = split_csv_line(line);
-  auto column = [&](const char* name) {
-    const auto it = std::find(header.begin(), header.end(), name);
-    if (it == header.end()) throw InputError(fmt::format("{}: no column '{}' in the header", csv.string(), name));
-    return static_cast<std::size_t>(it - header.begin());
-  };
-  const std::size_t c_t = column("t"), c_qw = column("qw"), c_wx = column("omega_x");
+  CsvRows rows(csv);
+  const std::vector<std::string>& header = rows.header();
+  if (header.empty()) throw InputError(fmt::format("{}: no header line", csv.string()));
+  const std::size_t c_t = rows.column("t"), c_qw = rows.column("qw"), c_wx = rows.column("omega_x");
   GridTrajectory g;
   std::vector<std::size_t> c_mult;
   for (std::size_t k = 0; k < header.size(); ++k)
@@ -44,15 +58,12 @@ GridTrajectory read_trajectory_csv(const std::filesystem::path& csv) {
       g.multiplier_names.push_back(header[k]);
       c_mult.push_back(k);
     }
-  while (std::getline(in, line)) {
-    const std::vector<std::string> cells = split_csv_line(line);
-    if (cells.size() < header.size()) break;  // a row cut short by a crash: the rows before it stand
-    auto value = [&](std::size_t k) { return std::strtod(cells[k].c_str(), nullptr); };
-    g.t.push_back(value(c_t));
-    g.q_WB.emplace_back(value(c_qw), value(c_qw + 1), value(c_qw + 2), value(c_qw + 3));
-    g.omega_B.emplace_back(value(c_wx), value(c_wx + 1), value(c_wx + 2));
+  while (rows.next()) {
+    g.t.push_back(rows.value(c_t));
+    g.q_WB.emplace_back(rows.value(c_qw), rows.value(c_qw + 1), rows.value(c_qw + 2), rows.value(c_qw + 3));
+    g.omega_B.emplace_back(rows.value(c_wx), rows.value(c_wx + 1), rows.value(c_wx + 2));
     std::vector<double> m(c_mult.size());
-    for (std::size_t k = 0; k < c_mult.size(); ++k) m[k] = value(c_mult[k]);
+    for (std::size_t k = 0; k < c_mult.size(); ++k) m[k] = rows.value(c_mult[k]);
     g.multipliers.push_back(std::move(m));
   }
   return g;

@@ -137,7 +137,89 @@ void check(int flag, const char* what) {
   if (flag < 0) throw SolverError(fmt::format("{} failed: flag {}", what, flag));
 }
 
-class CvodeStepper final : public Stepper {
+// The functions of CVODE and of ARKODE's ERKStep that differ only in their
+// prefix (SUNDIALS 6.4: the same arguments, the same flags), with the names
+// that errors report; for SundialsStepper.
+#define RIGIDAE_SHARED_CALLS(PREFIX)                                   \
+  static constexpr auto tolerances = &PREFIX##SVtolerances;            \
+  static constexpr auto user_data = &PREFIX##SetUserData;              \
+  static constexpr auto stop_time = &PREFIX##SetStopTime;              \
+  static constexpr auto root_init = &PREFIX##RootInit;                 \
+  static constexpr const char* kTolerances = #PREFIX "SVtolerances";   \
+  static constexpr const char* kUserData = #PREFIX "SetUserData";      \
+  static constexpr const char* kStopTime = #PREFIX "SetStopTime";      \
+  static constexpr const char* kRootInit = #PREFIX "RootInit";         \
+  static constexpr auto flag_name = &PREFIX##GetReturnFlagName;        \
+  static constexpr auto dky = &PREFIX##GetDky;                         \
+  static constexpr auto last_step = &PREFIX##GetLastStep;              \
+  static constexpr auto current_time = &PREFIX##GetCurrentTime;        \
+  static constexpr auto num_steps = &PREFIX##GetNumSteps;              \
+  static constexpr auto num_rhs_evals = &PREFIX##GetNumRhsEvals;       \
+  static constexpr auto num_error_test_fails = &PREFIX##GetNumErrTestFails; \
+  static constexpr auto num_root_evals = &PREFIX##GetNumGEvals;
+
+struct CvodeCalls {
+  RIGIDAE_SHARED_CALLS(CVode)
+  static int one_step(void* mem, double t_end, N_Vector x, double& t) { return CVode(mem, t_end, x, &t, CV_ONE_STEP); }
+  static constexpr int kRootReturn = CV_ROOT_RETURN;
+};
+
+struct ErkStepCalls {
+  RIGIDAE_SHARED_CALLS(ERKStep)
+  static int one_step(void* mem, double t_end, N_Vector x, double& t) {
+    return ERKStepEvolve(mem, t_end, x, &t, ARK_ONE_STEP);
+  }
+  static constexpr int kRootReturn = ARK_ROOT_RETURN;
+};
+
+#undef RIGIDAE_SHARED_CALLS
+
+// What CVODE and ERKStep do alike, once: the shared settings, the step, the
+// interpolant, the step size and time, the shared counters. `Calls` names the
+// integrator's functions (compile-time constants: direct calls).
+template <typename Calls>
+class SundialsStepper : public Stepper {
+ public:
+  int step(double t_end, N_Vector x, double& t) override { return Calls::one_step(mem_, t_end, x, t); }
+  bool root_found(int flag) const override { return flag == Calls::kRootReturn; }
+  std::string flag_name(int flag) const override { return take_name(Calls::flag_name(flag), flag); }
+  int dky(double t, N_Vector out) override { return Calls::dky(mem_, t, 0, out); }
+  double last_step() override {
+    double h = 0.0;
+    Calls::last_step(mem_, &h);
+    return h;
+  }
+  double current_time() override {
+    double t = 0.0;
+    Calls::current_time(mem_, &t);
+    return t;
+  }
+
+ protected:
+  // The tolerances, the callbacks' data and the stop time.
+  void set_common(N_Vector atol, const SolverSettings& opt, const TimeGrid& span, CallbackData& data) {
+    check(Calls::tolerances(mem_, opt.rtol, atol), Calls::kTolerances);
+    check(Calls::user_data(mem_, &data), Calls::kUserData);
+    check(Calls::stop_time(mem_, span.end), Calls::kStopTime);
+  }
+  // The event functions (chart switches), when there are any.
+  void set_roots(int n_events) {
+    has_roots_ = n_events > 0;
+    if (has_roots_) check(Calls::root_init(mem_, n_events, root_callback), Calls::kRootInit);
+  }
+  void add_common_counters(IdaCounters& c) {
+    long v = 0;
+    Calls::num_steps(mem_, &v), c.steps += v;
+    Calls::num_rhs_evals(mem_, &v), c.residual_evals += v;
+    Calls::num_error_test_fails(mem_, &v), c.error_test_fails += v;
+    if (has_roots_) Calls::num_root_evals(mem_, &v), c.root_evals += v;
+  }
+
+  void* mem_ = nullptr;
+  bool has_roots_ = false;
+};
+
+class CvodeStepper final : public SundialsStepper<CvodeCalls> {
  public:
   CvodeStepper(bool bdf, SUNContext ctx, N_Vector x0, N_Vector atol, const SolverSettings& opt, const TimeGrid& span,
                CallbackData& data, int n_events)
@@ -157,9 +239,7 @@ class CvodeStepper final : public Stepper {
     mem_ = CVodeCreate(bdf ? CV_BDF : CV_ADAMS, ctx);
     if (!mem_) throw SolverError("CVodeCreate failed");
     check(CVodeInit(mem_, rhs_callback, t0, x0), "CVodeInit");
-    check(CVodeSVtolerances(mem_, opt.rtol, atol), "CVodeSVtolerances");
-    check(CVodeSetUserData(mem_, &data), "CVodeSetUserData");
-    check(CVodeSetStopTime(mem_, span.end), "CVodeSetStopTime");
+    set_common(atol, opt, span, data);
     const int n = static_cast<int>(N_VGetLength(x0));
     if (bdf) {
       // Newton with CVODE's difference-quotient Jacobian and rigidae's LU.
@@ -179,8 +259,7 @@ class CvodeStepper final : public Stepper {
       check(CVodeSetNonlinearSolver(mem_, NLS_), "CVodeSetNonlinearSolver");
       check(CVodeSetMaxOrd(mem_, 12), "CVodeSetMaxOrd");
     }
-    has_roots_ = n_events > 0;
-    if (has_roots_) check(CVodeRootInit(mem_, n_events, root_callback), "CVodeRootInit");
+    set_roots(n_events);
   }
   void release() {
     if (mem_) CVodeFree(&mem_);
@@ -188,34 +267,17 @@ class CvodeStepper final : public Stepper {
     if (A_) SUNMatDestroy(A_);
     if (NLS_) SUNNonlinSolFree(NLS_);
   }
-  int step(double t_end, N_Vector x, double& t) override { return CVode(mem_, t_end, x, &t, CV_ONE_STEP); }
-  bool root_found(int flag) const override { return flag == CV_ROOT_RETURN; }
-  std::string flag_name(int flag) const override { return take_name(CVodeGetReturnFlagName(flag), flag); }
-  int dky(double t, N_Vector out) override { return CVodeGetDky(mem_, t, 0, out); }
-  double last_step() override {
-    double h = 0.0;
-    CVodeGetLastStep(mem_, &h);
-    return h;
-  }
   int last_order() override {
     int q = 0;
     CVodeGetLastOrder(mem_, &q);
     return q;
   }
-  double current_time() override {
-    double t = 0.0;
-    CVodeGetCurrentTime(mem_, &t);
-    return t;
-  }
   void reinit(double t, N_Vector x) override { check(CVodeReInit(mem_, t, x), "CVodeReInit"); }
   void add_counters(IdaCounters& c) override {
+    add_common_counters(c);
     long v = 0;
-    CVodeGetNumSteps(mem_, &v), c.steps += v;
-    CVodeGetNumRhsEvals(mem_, &v), c.residual_evals += v;
     CVodeGetNumNonlinSolvIters(mem_, &v), c.nonlinear_iters += v;
     CVodeGetNumNonlinSolvConvFails(mem_, &v), c.nonlinear_conv_fails += v;
-    CVodeGetNumErrTestFails(mem_, &v), c.error_test_fails += v;
-    if (has_roots_) CVodeGetNumGEvals(mem_, &v), c.root_evals += v;
     if (bdf_) {
       CVodeGetNumJacEvals(mem_, &v), c.jacobian_evals += v;
       CVodeGetNumLinRhsEvals(mem_, &v), c.jacobian_residual_evals += v;
@@ -225,14 +287,12 @@ class CvodeStepper final : public Stepper {
 
  private:
   bool bdf_;
-  bool has_roots_ = false;
-  void* mem_ = nullptr;
   SUNMatrix A_ = nullptr;
   SUNLinearSolver LS_ = nullptr;
   SUNNonlinearSolver NLS_ = nullptr;
 };
 
-class ArkodeStepper final : public Stepper {
+class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
  public:
   ArkodeStepper(const ErkMethodInfo& method, SUNContext ctx, N_Vector x0, N_Vector atol, const SolverSettings& opt,
                 const TimeGrid& span, CallbackData& data, int n_events)
@@ -248,44 +308,19 @@ class ArkodeStepper final : public Stepper {
   }
   void configure(const ErkMethodInfo& method, N_Vector atol, const SolverSettings& opt, const TimeGrid& span,
                  CallbackData& data, int n_events) {
-    check(ERKStepSVtolerances(mem_, opt.rtol, atol), "ERKStepSVtolerances");
+    set_common(atol, opt, span, data);
     check(ERKStepSetTableName(mem_, method.arkode_name.c_str()), "ERKStepSetTableName");
-    check(ERKStepSetUserData(mem_, &data), "ERKStepSetUserData");
-    check(ERKStepSetStopTime(mem_, span.end), "ERKStepSetStopTime");
     if (data.projection.enabled)
       check(ERKStepSetPostprocessStepFn(mem_, arkode_postprocess_callback), "ERKStepSetPostprocessStepFn");
-    has_roots_ = n_events > 0;
-    if (has_roots_) check(ERKStepRootInit(mem_, n_events, root_callback), "ERKStepRootInit");
+    set_roots(n_events);
   }
   ~ArkodeStepper() override { ERKStepFree(&mem_); }
-  int step(double t_end, N_Vector x, double& t) override { return ERKStepEvolve(mem_, t_end, x, &t, ARK_ONE_STEP); }
-  bool root_found(int flag) const override { return flag == ARK_ROOT_RETURN; }
-  std::string flag_name(int flag) const override { return take_name(ERKStepGetReturnFlagName(flag), flag); }
-  int dky(double t, N_Vector out) override { return ERKStepGetDky(mem_, t, 0, out); }
-  double last_step() override {
-    double h = 0.0;
-    ERKStepGetLastStep(mem_, &h);
-    return h;
-  }
   int last_order() override { return order_; }
-  double current_time() override {
-    double t = 0.0;
-    ERKStepGetCurrentTime(mem_, &t);
-    return t;
-  }
   void reinit(double t, N_Vector x) override { check(ERKStepReInit(mem_, rhs_callback, t, x), "ERKStepReInit"); }
-  void add_counters(IdaCounters& c) override {
-    long v = 0;
-    ERKStepGetNumSteps(mem_, &v), c.steps += v;
-    ERKStepGetNumRhsEvals(mem_, &v), c.residual_evals += v;
-    ERKStepGetNumErrTestFails(mem_, &v), c.error_test_fails += v;
-    if (has_roots_) ERKStepGetNumGEvals(mem_, &v), c.root_evals += v;
-  }
+  void add_counters(IdaCounters& c) override { add_common_counters(c); }
 
  private:
   int order_;
-  bool has_roots_ = false;
-  void* mem_ = nullptr;
 };
 
 struct Vectors {

@@ -7,7 +7,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace rigidae::test {
 
@@ -44,6 +47,36 @@ inline std::filesystem::path fresh_temp_dir(const std::string& name) {
 inline std::string read_file(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// A CSV file the CLI wrote (compare.csv, ...) as one map per row, column ->
+// cell: '#' comment lines and blank lines are passed over, the first other
+// line is the header (quoted cells hold no commas in these files).
+inline std::vector<std::map<std::string, std::string>> read_csv_rows(const std::filesystem::path& csv) {
+  std::ifstream in(csv);
+  REQUIRE(in);
+  auto split = [](const std::string& l) {
+    std::vector<std::string> out;
+    std::stringstream ss(l);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) out.push_back(cell);
+    return out;
+  };
+  std::string line;
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    if (header.empty()) {
+      header = split(line);
+      continue;
+    }
+    const std::vector<std::string> cells = split(line);
+    std::map<std::string, std::string> row;
+    for (std::size_t k = 0; k < header.size() && k < cells.size(); ++k) row[header[k]] = cells[k];
+    rows.push_back(row);
+  }
+  return rows;
 }
 
 }  // namespace rigidae::test

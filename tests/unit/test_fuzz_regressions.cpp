@@ -12,6 +12,7 @@
 #include "rigidae/app/study.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/io/scene_loader.hpp"
+#include "rigidae/multibody/multibody_problem.hpp"
 
 namespace fs = std::filesystem;
 
@@ -44,4 +45,33 @@ TEST_CASE("fuzz regressions: every input the fuzzer found gives a clean one-line
                        [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }));
   }
   CHECK(files >= 1);
+}
+
+// Found by fuzz/fuzz_scene_loader.cpp (ASan: stack-use-after-scope): a chain
+// whose joint j8 closes a loop (link7 back to link4) with all links on the x
+// axis, where the loop's rows depend on one another. The start's rank check
+// listed the dependent rows through a reference to a temporary permutation.
+// Truth: the four links of the loop are collinear, so the closing joint's
+// rows along the chain repeat the others; the start must refuse with the
+// positioned list of rows, and the count it names matches the rows listed.
+TEST_CASE("fuzz regressions: an overconstrained loop of spherical joints is refused with its dependent rows") {
+  std::string text = rigidae::test::read_file(fs::path(RIGIDAE_SOURCE_DIR) / "problems" / "chain_10.toml");
+  const std::string joint = "bodies = [\"link7\", \"link8\"]";
+  const std::size_t at = text.find(joint);
+  REQUIRE(at != std::string::npos);
+  text.replace(at, joint.size(), "bodies = [\"link7\", \"link4\"]");
+  const rigidae::Scene scene = rigidae::io::parse_scene(text, "loop.toml");
+  std::string message;
+  try {
+    rigidae::multibody::MultibodyProblem problem(scene);
+  } catch (const rigidae::InputError& e) {
+    message = e.what();
+  }
+  CAPTURE(message);
+  std::smatch m;
+  REQUIRE(std::regex_search(message, m, std::regex(R"(([0-9]+) of the ([0-9]+) constraint rows depend on the others)")));
+  const int dependent = std::stoi(m[1].str());
+  CHECK(dependent >= 1);
+  CHECK(dependent < std::stoi(m[2].str()));
+  CHECK(std::count(message.begin(), message.end(), '\n') >= dependent);  // one listed row a line
 }

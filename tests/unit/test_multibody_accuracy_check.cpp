@@ -6,9 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
-#include <fstream>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -19,31 +17,10 @@ namespace {
 namespace fs = std::filesystem;
 const std::string kProblems = std::string(RIGIDAE_SOURCE_DIR) + "/problems/";
 
-// compare.csv's rows by combination: column -> cell (quoted cells hold no commas here).
+// compare.csv's rows by combination: column -> cell.
 std::map<std::string, std::map<std::string, std::string>> rows_by_combination(const fs::path& csv) {
-  std::ifstream in(csv);
-  REQUIRE(in);
-  std::string line;
-  std::vector<std::string> header;
   std::map<std::string, std::map<std::string, std::string>> rows;
-  auto split = [](const std::string& l) {
-    std::vector<std::string> out;
-    std::stringstream ss(l);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) out.push_back(cell);
-    return out;
-  };
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    if (header.empty()) {
-      header = split(line);
-      continue;
-    }
-    const std::vector<std::string> cells = split(line);
-    std::map<std::string, std::string> row;
-    for (std::size_t k = 0; k < header.size() && k < cells.size(); ++k) row[header[k]] = cells[k];
-    rows[row["combination"]] = row;
-  }
+  for (auto& row : rigidae::test::read_csv_rows(csv)) rows[row["combination"]] = row;
   return rows;
 }
 

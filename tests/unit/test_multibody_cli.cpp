@@ -94,27 +94,6 @@ TEST_CASE("multibody cli: heavy_top_absolute ends at heavy_top's orientation (sa
   CHECK(diff < 1e-4);
 }
 
-// compare.csv's cells by column name, one map per row.
-std::vector<std::map<std::string, std::string>> compare_rows(const fs::path& csv) {
-  std::ifstream in(csv);
-  REQUIRE(in);
-  std::string line;
-  std::vector<std::string> header;
-  std::vector<std::map<std::string, std::string>> rows;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    if (header.empty()) {
-      header = split(line);
-      continue;
-    }
-    const std::vector<std::string> cells = split(line);
-    std::map<std::string, std::string> row;
-    for (std::size_t k = 0; k < header.size() && k < cells.size(); ++k) row[header[k]] = cells[k];
-    rows.push_back(row);
-  }
-  return rows;
-}
-
 TEST_CASE("multibody cli: compare runs a multibody scene against its tight reference, and errors fall with rtol") {
   // Independent truth: a tight run (rtol 1e-12) of the same scene, itself
   // cross-checked by other coordinates. Short span: the double pendulum is chaotic.
@@ -129,7 +108,7 @@ TEST_CASE("multibody cli: compare runs a multibody scene against its tight refer
                                           "--quiet --out " + dir.string());
     CAPTURE(r.output);
     REQUIRE(r.exit_code == 0);
-    const auto rows = compare_rows(dir / "compare.csv");
+    const auto rows = rigidae::test::read_csv_rows(dir / "compare.csv");
     REQUIRE(rows.size() == 3);
     int i = 0;
     for (const auto& row : rows) {
@@ -156,7 +135,7 @@ TEST_CASE("multibody cli: compare on a multibody scene runs every coordinates x 
                                   dir.string());
   CAPTURE(r.output);
   REQUIRE(r.exit_code == 0);
-  const auto rows = compare_rows(dir / "compare.csv");
+  const auto rows = rigidae::test::read_csv_rows(dir / "compare.csv");
   CHECK(rows.size() == 3 * 2 * 6);  // Euler angles carry the joints too: every scheme
   for (const auto& row : rows) {
     CHECK(row.at("integrator") == "ida");

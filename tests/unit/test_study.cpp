@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "cli_runner.hpp"
 #include "rigidae/app/accuracy.hpp"
 #include "rigidae/app/study.hpp"
 #include "rigidae/core/error.hpp"
@@ -21,13 +22,6 @@ using namespace rigidae;
 namespace fs = std::filesystem;
 
 namespace {
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "rigidae_study_tests" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 // The torque-free body of problems/free_body.toml, over a shorter time.
 constexpr const char* kFreeBody = R"(schema_version = 1
@@ -46,13 +40,6 @@ end = 4.0
 output_step = 0.05
 )";
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 StudySpec write_and_load_study(const fs::path& dir, const std::string& grid) {
   std::ofstream(dir / "free_body_short.toml") << kFreeBody;
   std::ofstream(dir / "study.toml") << "schema_version = 1\nname = \"t\"\nscenes = [\"free_body_short.toml\"]\n"
@@ -62,7 +49,7 @@ StudySpec write_and_load_study(const fs::path& dir, const std::string& grid) {
 }
 
 nlohmann::json run_record(const fs::path& out, const StudySpec& spec, const StudyRun& r) {
-  return nlohmann::json::parse(slurp(run_folder(out, spec, r) / "run.json"));
+  return nlohmann::json::parse(test::read_file(run_folder(out, spec, r) / "run.json"));
 }
 
 // Slope of log10(error) against log10(rtol), least squares.
@@ -137,7 +124,7 @@ TEST_CASE("a Slurm array task picks its slice from the environment") {
 }
 
 TEST_CASE("an interrupted study resumes without redoing complete runs") {
-  const fs::path dir = fresh_dir("resume");
+  const fs::path dir = test::fresh_temp_dir("study_resume");
   const StudySpec spec =
       write_and_load_study(dir, "combinations = [\"quaternion/euler/ggl\", \"euler/euler/any\"]\nrtol = [1e-4, 1e-6]\n");
   const std::vector<StudyRun> plan = plan_study(spec);
@@ -162,8 +149,8 @@ TEST_CASE("an interrupted study resumes without redoing complete runs") {
   // Shard 1/2 (runs 1 and 3) completes meanwhile.
   opt.progress = nullptr;
   CHECK(run_study(spec, select_shard(plan, {1, 2}), opt));
-  const std::string first = slurp(run_folder(out, spec, plan[0]) / "run.json");
-  const std::string second = slurp(run_folder(out, spec, plan[1]) / "run.json");
+  const std::string first = test::read_file(run_folder(out, spec, plan[0]) / "run.json");
+  const std::string second = test::read_file(run_folder(out, spec, plan[1]) / "run.json");
 
   int skipped = 0, done = 0;
   opt.progress = [&](const StudyProgress& p) {
@@ -174,8 +161,8 @@ TEST_CASE("an interrupted study resumes without redoing complete runs") {
   CHECK(done == 4);
   CHECK(skipped == 3);  // only run 2 was left
   // Byte-identical records: the wall times in them would differ if redone.
-  CHECK(slurp(run_folder(out, spec, plan[0]) / "run.json") == first);
-  CHECK(slurp(run_folder(out, spec, plan[1]) / "run.json") == second);
+  CHECK(test::read_file(run_folder(out, spec, plan[0]) / "run.json") == first);
+  CHECK(test::read_file(run_folder(out, spec, plan[1]) / "run.json") == second);
 
   std::vector<std::string> missing;
   collect_study(spec, out, &missing);
@@ -188,7 +175,7 @@ TEST_CASE("an interrupted study resumes without redoing complete runs") {
 }
 
 TEST_CASE("the error falls in step with rtol for the Euler forms, against the exact free body") {
-  const fs::path dir = fresh_dir("proportional");
+  const fs::path dir = test::fresh_temp_dir("study_proportional");
   const StudySpec spec = write_and_load_study(
       dir, "combinations = [\"quaternion/euler/ggl\", \"euler/euler/any\", \"quaternion/lagrange/ggl\"]\n"
            "rtol = [1e-5, 1e-6, 1e-7, 1e-8, 1e-9]\n");
@@ -222,7 +209,7 @@ TEST_CASE("the error falls in step with rtol for the Euler forms, against the ex
 }
 
 TEST_CASE("study files: errors name the file, line and key, and what would be valid") {
-  const fs::path dir = fresh_dir("errors");
+  const fs::path dir = test::fresh_temp_dir("study_errors");
   std::ofstream(dir / "free_body_short.toml") << kFreeBody;
   auto message = [&](const std::string& text) {
     std::ofstream(dir / "bad.toml") << text;
@@ -258,10 +245,10 @@ TEST_CASE("study files: errors name the file, line and key, and what would be va
 
 TEST_CASE("a scene may insist on the exact reference, and is told when it has none") {
   const std::string base = std::string(RIGIDAE_SOURCE_DIR) + "/problems/";
-  const Scene top = io::parse_scene("reference = \"exact\"\n" + slurp(base + "heavy_top.toml"), "top.toml");
+  const Scene top = io::parse_scene("reference = \"exact\"\n" + test::read_file(base + "heavy_top.toml"), "top.toml");
   CHECK(top.reference == ReferenceKind::Exact);
   // Off-axis centre of mass: not a Lagrange top.
-  std::string text = slurp(base + "heavy_top.toml");
+  std::string text = test::read_file(base + "heavy_top.toml");
   const std::size_t at = text.find("center_of_mass");
   REQUIRE(at != std::string::npos);
   text.replace(at, text.find('\n', at) - at, "center_of_mass = [0.1, 1.0, 0.0]");
@@ -286,7 +273,7 @@ TEST_CASE("tolerances that differ only in the seventh digit get their own run fo
 }
 
 TEST_CASE("a leftover folder without run.json at a run's place is replaced, not taken as done") {
-  const fs::path dir = fresh_dir("leftover");
+  const fs::path dir = test::fresh_temp_dir("study_leftover");
   const StudySpec spec = write_and_load_study(dir, "combinations = [\"quaternion/euler/index1\"]\nrtol = [1e-4]\n");
   const std::vector<StudyRun> plan = plan_study(spec);
   const fs::path out = dir / "out";
@@ -301,7 +288,7 @@ TEST_CASE("a leftover folder without run.json at a run's place is replaced, not 
 }
 
 TEST_CASE("a tight reference that fails stops the study with the reason, and leaves no reference behind") {
-  const fs::path dir = fresh_dir("failed_reference");
+  const fs::path dir = test::fresh_temp_dir("study_failed_reference");
   // An off-axis centre of mass: no closed form, so the reference is a tight
   // run; one step allowed makes it fail at once.
   std::string scene = kFreeBody;

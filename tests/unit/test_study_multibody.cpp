@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "cli_runner.hpp"
 #include "rigidae/app/study.hpp"
 #include "rigidae/core/error.hpp"
 
@@ -20,23 +21,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "rigidae_study_tests" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 // A shipped multibody scene over a short span (its name kept).
 void short_copy(const std::string& problem, const fs::path& to, const std::string& end) {
-  std::string text = slurp(std::string(RIGIDAE_SOURCE_DIR) + "/problems/" + problem);
+  std::string text = test::read_file(std::string(RIGIDAE_SOURCE_DIR) + "/problems/" + problem);
   const std::size_t at = text.find("\n[time]");
   REQUIRE(at != std::string::npos);
   const std::size_t end_line = text.find("\nend = ", at);
@@ -57,7 +44,7 @@ std::string load_error(const fs::path& file) {
 }  // namespace
 
 TEST_CASE("a study over a multibody scene: errors against the tight reference fall as rtol falls") {
-  const fs::path dir = fresh_dir("multibody");
+  const fs::path dir = test::fresh_temp_dir("study_multibody");
   short_copy("double_pendulum.toml", dir / "dp.toml", "0.3");
   std::ofstream(dir / "study.toml") << "schema_version = 1\nname = \"mb\"\nscenes = [\"dp.toml\"]\n"
                                        "[grid]\ncombinations = [\"quaternion/euler/ggl\", \"euler/lagrange/index1\"]\n"
@@ -73,7 +60,7 @@ TEST_CASE("a study over a multibody scene: errors against the tight reference fa
     for (std::size_t k = 0; k < 3; ++k) {
       const StudyRun& r = plan[3 * c + k];  // loose to tight
       CAPTURE(r.id(spec));
-      const nlohmann::json j = nlohmann::json::parse(slurp(run_folder(opt.out, spec, r) / "run.json"));
+      const nlohmann::json j = nlohmann::json::parse(test::read_file(run_folder(opt.out, spec, r) / "run.json"));
       REQUIRE(j["status"] == "success");
       const double err = j["errors"]["orientation_rad"]["final"].get<double>();
       MESSAGE(r.id(spec) << ": final error " << err << " rad, position "
@@ -93,14 +80,14 @@ TEST_CASE("a study over a multibody scene: errors against the tight reference fa
   std::vector<std::string> missing;
   collect_study(spec, opt.out, &missing);
   CHECK(missing.empty());
-  const std::string csv = slurp(opt.out / "results.csv");
+  const std::string csv = test::read_file(opt.out / "results.csv");
   for (const char* column : {",integrator,", ",position_error_final_m,", ",final_state_error_rad,", ",cpu_model,",
                              ",load_average,", ",commit,", ",compiler"})
     CHECK(csv.find(column) != std::string::npos);
 }
 
 TEST_CASE("a study's integrators axis: valid pairs only, and positioned errors") {
-  const fs::path dir = fresh_dir("integrators");
+  const fs::path dir = test::fresh_temp_dir("study_integrators");
   short_copy("heavy_top.toml", dir / "top.toml", "0.2");
   short_copy("four_bar.toml", dir / "four_bar.toml", "0.1");
   const std::string head = "schema_version = 1\nscenes = [\"top.toml\"]\n[grid]\nrtol = [1e-6]\n";
@@ -125,7 +112,7 @@ TEST_CASE("a study's integrators axis: valid pairs only, and positioned errors")
   REQUIRE(run_study(spec, ode, opt));
   for (const StudyRun& r : ode) {
     CAPTURE(r.id(spec));
-    const nlohmann::json j = nlohmann::json::parse(slurp(run_folder(opt.out, spec, r) / "run.json"));
+    const nlohmann::json j = nlohmann::json::parse(test::read_file(run_folder(opt.out, spec, r) / "run.json"));
     CHECK(j["status"] == "success");
     CHECK(j["integrator"] == r.combination.integrator_label());
     const double err = j["errors"]["orientation_rad"]["final"].get<double>();

@@ -3,7 +3,9 @@
 // how its value is computed from an Observation and the step. steps.csv and
 // trajectory.csv (header, units line, rows), summary.json's final row, and the
 // readers behind compare and study (trajectory_csv.cpp) all go through it:
-// adding a column is one row in src/record/columns.cpp.
+// adding a column is one row in src/record/columns.cpp. The multibody
+// recorder's steps file is a table of its own (src/record/multibody_recorder.cpp)
+// written by the same functions.
 #include <fmt/format.h>
 
 #include <span>
@@ -44,22 +46,47 @@ struct Column {
   long (*integer)(const Sample&) = nullptr;
 };
 
-// Every column, in file order.
-std::span<const Column> all();
+// How a table writes its numbers as text.
+enum class Digits {
+  ToChars,  // std::to_chars' shortest round trip: %f or %e, whichever is shorter (single body)
+  Fmt,      // fmt's "{}": the same digits, %f from 1e-4 up to 1e16 (the multibody files' layout)
+};
 
-// The first line of steps.csv and trajectory.csv: "# units: t s; h s; ...".
-std::string units_line();
+// A table of columns, in file order, and its layout of numbers.
+struct Table {
+  std::span<const Column> columns;
+  Digits digits = Digits::ToChars;
+};
+
+// Every single-body column, in file order.
+std::span<const Column> all();
+// The single-body table (all(), written in to_chars' layout).
+const Table& single_body();
+
+// The first line of the table's files: "# units: t s; h s; ...".
+std::string units_line(const Table& table);
 // The header line of `file` (without the newline).
-std::string header(File file, const std::vector<std::string>& multiplier_names, bool with_chart);
+std::string header(const Table& table, File file, const std::vector<std::string>& multiplier_names,
+                   bool with_chart);
 // Appends one row of `file` (with its newline) to b; allocates nothing.
-void append_row(fmt::memory_buffer& b, File file, const Sample& s, bool with_chart);
+void append_row(fmt::memory_buffer& b, const Table& table, File file, const Sample& s, bool with_chart);
 
 // The binary step file (steps.npy): the fields of `file` in header order,
 // Real and multiplier columns '<f8', Integer '<i8', the chart '|S8'.
 inline constexpr std::size_t kChartBytes = 8;
-std::vector<NpyField> npy_fields(File file, const std::vector<std::string>& multiplier_names, bool with_chart);
+std::vector<NpyField> npy_fields(const Table& table, File file, const std::vector<std::string>& multiplier_names,
+                                 bool with_chart);
 // Appends one such row (packed, little-endian) to b; allocates nothing.
-void append_binary_row(fmt::memory_buffer& b, File file, const Sample& s, bool with_chart);
+void append_binary_row(fmt::memory_buffer& b, const Table& table, File file, const Sample& s, bool with_chart);
+
+// The same for the single-body table.
+inline std::string units_line() { return units_line(single_body()); }
+inline std::string header(File file, const std::vector<std::string>& multiplier_names, bool with_chart) {
+  return header(single_body(), file, multiplier_names, with_chart);
+}
+inline void append_row(fmt::memory_buffer& b, File file, const Sample& s, bool with_chart) {
+  append_row(b, single_body(), file, s, with_chart);
+}
 
 // Multiplier columns by their prefix: "lambda_" a force (J), "mu_" a kinematic one (1/s).
 bool is_multiplier(std::string_view header_name);

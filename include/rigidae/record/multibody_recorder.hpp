@@ -39,9 +39,9 @@ class MultibodyRecorder final : public StepSink {
 
  private:
   multibody::MultibodyProblem& problem_;
-  std::unique_ptr<CsvStream> steps_, trajectory_;
-  std::unique_ptr<NpyFile> steps_npy_;
-  CsvStream events_;
+  CsvStream events_;  // created first, then the step file and trajectory.csv
+  StepFile steps_;
+  std::unique_ptr<CsvStream> trajectory_;
   std::vector<double> row_;
   int energy_column_ = 0;
   double H0_ = 0.0, last_energy_ = 0.0;

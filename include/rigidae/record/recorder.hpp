@@ -64,6 +64,71 @@ class CsvStream {
   CheckedStream stream_;
 };
 
+// Opens `path` as a CsvStream when wanted; else removes a previous run's file
+// there (a stale file would pass for this run's) and returns null.
+std::unique_ptr<CsvStream> open_csv_if(bool wanted, const std::filesystem::path& path,
+                                       const std::string& units_comment, const std::string& header);
+
+// A run's step file, steps.csv or steps.npy as output.record and
+// output.step_format say (or none; a previous run's are removed), written a
+// row per accepted step from a table of columns (record/columns.hpp): the one
+// step writer of RunRecorder and MultibodyRecorder.
+class StepFile {
+ public:
+  // `table` outlives the file (the tables are static).
+  StepFile(const columns::Table& table, const std::vector<std::string>& multiplier_names, bool with_chart,
+           const OutputSettings& output, const std::filesystem::path& out_dir);
+  // Whether a step file is written.
+  explicit operator bool() const { return csv_ || npy_; }
+  // One row (allocates nothing: the row is built on the stack).
+  void write(const columns::Sample& s) {
+    fmt::memory_buffer b;
+    if (csv_) {
+      columns::append_row(b, table_, columns::kSteps, s, with_chart_);
+      csv_->file().write(b.data(), b.size());
+    } else if (npy_) {
+      columns::append_binary_row(b, table_, columns::kSteps, s, with_chart_);
+      npy_->write_row(b.data());
+    }
+  }
+  void flush() {
+    if (csv_) csv_->flush();
+    if (npy_) npy_->flush();
+  }
+  // Closes the file; throws OutputError when that fails.
+  void close() {
+    if (csv_) csv_->close();
+    if (npy_) npy_->close();
+  }
+
+ private:
+  const columns::Table& table_;
+  bool with_chart_;
+  std::unique_ptr<CsvStream> csv_;  // at most one of the two
+  std::unique_ptr<NpyFile> npy_;
+};
+
+// Closes a recorder's files one after another, each even when one before
+// failed, and throws an OutputError naming the first failure at the end.
+class CloseEach {
+ public:
+  template <typename Close>
+  CloseEach& operator()(Close&& close_one) {
+    try {
+      close_one();
+    } catch (const OutputError& e) {
+      if (first_.empty()) first_ = e.what();
+    }
+    return *this;
+  }
+  void rethrow_first() const {
+    if (!first_.empty()) throw OutputError(first_);
+  }
+
+ private:
+  std::string first_;
+};
+
 // A sink that keeps the run's extremes as it goes (RunRecorder on disk; the
 // Python module's in-memory recorder): what InvariantMonitor sits in front of.
 class RecordingSink : public StepSink {
@@ -91,14 +156,12 @@ class RunRecorder final : public RecordingSink {
  private:
   // One row of `file` from the table of columns (record/columns.hpp).
   void write_row(CheckedStream& f, columns::File file, const columns::Sample& sample);
-  void write_binary_row(NpyFile& f, const columns::Sample& sample);
 
   const ChartState& problem_;
   std::vector<std::string> multiplier_names_;
   bool with_chart_;
   Observer step_observer_, grid_observer_;
-  std::unique_ptr<CsvStream> steps_csv_;  // at most one of the two step files
-  std::unique_ptr<NpyFile> steps_npy_;
+  StepFile steps_;
   std::unique_ptr<CsvStream> trajectory_;
   CsvStream events_;
   RunExtremes extremes_;
