@@ -274,6 +274,18 @@ void MultibodyProblem::start(const Scene& scene) {
     y0_.segment(vo, 3) = bs.v0_W;
     y0_.segment(vo + 3, b.nvr) = v;
   }
+  // A start error about one row, in the loaders' form "FILE:LINE:COL: error:
+  // joint ..." when the joint has a position in the scene file.
+  const auto row_error = [&](int block, int row) {
+    std::string label = row_label(block, row);
+    const ConstraintBlock& b = blocks_[block];
+    if (b.internal) return label;
+    const JointSpec& js = spec_.joints[b.joint];
+    if (js.where.file.empty() && js.where.line <= 0) return label;
+    const std::size_t after_position =
+        (js.where.file + ":" + std::to_string(js.where.line) + ":" + std::to_string(js.where.column) + ": ").size();
+    return label.insert(after_position, "error: ");
+  };
   // Joint misses at the given poses.
   evaluate(t0, y0_.data(), 2);
   double worst = 0.0;
@@ -286,7 +298,7 @@ void MultibodyProblem::start(const Scene& scene) {
       if (miss > spec_.start_tolerance)
         throw InputError(fmt::format("{}: the initial poses miss the joint by {:.3g} (more than start_tolerance "
                                      "{:g}); place the bodies so that the joint holds, or raise start_tolerance",
-                                     row_label(j, r), miss, spec_.start_tolerance));
+                                     row_error(j, r), miss, spec_.start_tolerance));
       if (miss > worst) worst = miss, worst_row = row_label(j, r);
     }
   }
@@ -309,21 +321,26 @@ void MultibodyProblem::start(const Scene& scene) {
         throw InputError("the rank check of the joints' constraint rows failed (SuiteSparseQR could not factorise G^T)");
       const int rank = static_cast<int>(qr.rank());
       if (rank < G.rows()) {
-        std::string rows;
+        // One line, positioned at the first dependent row's joint, the rows
+        // listed after it (as every other scene error: file, line, column).
         // SPQR's colsPermutation() is a temporary (a map over its own
         // array): keep a copy, not a reference into it (AddressSanitizer
         // found the dangling reference).
         const Eigen::Matrix<SuiteSparse_long, Eigen::Dynamic, 1> perm = qr.colsPermutation().indices();
-        for (int k = rank; k < G.rows(); ++k) {
-          const int i = perm(k);
-          rows += "\n  " + row_label(row_block[i], row_index[i]);
+        constexpr int kRowsListed = 8;
+        std::string rows;
+        for (int k = rank; k < G.rows() && k < rank + kRowsListed; ++k) {
+          const int i = static_cast<int>(perm(k));
+          rows += (k == rank ? "" : "; ") + row_label(row_block[i], row_index[i]);
         }
+        if (G.rows() - rank > kRowsListed) rows += fmt::format("; and {} more", G.rows() - rank - kRowsListed);
+        const int first = static_cast<int>(perm(rank));
         throw InputError(fmt::format(
-            "{} of the {} constraint rows depend on the others at the start (the mechanism is overconstrained, "
+            "{}: {} of the {} constraint rows depend on the others at the start (the mechanism is overconstrained, "
             "e.g. a closed loop of revolute joints): its reactions are not unique and the saddle-point system is "
-            "singular. Dependent rows:{}\nReplace a joint by one with fewer rows (a revolute by a universal or "
+            "singular. Dependent rows: {}. Replace a joint by one with fewer rows (a revolute by a universal or "
             "spherical joint) so that these rows go.",
-            G.rows() - rank, G.rows(), rows));
+            row_error(row_block[first], row_index[first]), G.rows() - rank, G.rows(), rows));
       }
     }
   }
