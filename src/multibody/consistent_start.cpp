@@ -275,16 +275,12 @@ void MultibodyProblem::start(const Scene& scene) {
     y0_.segment(vo + 3, b.nvr) = v;
   }
   // A start error about one row, in the loaders' form "FILE:LINE:COL: error:
-  // joint ..." when the joint has a position in the scene file.
+  // joint ..." when row_label put the joint's position in front.
   const auto row_error = [&](int block, int row) {
     std::string label = row_label(block, row);
-    const ConstraintBlock& b = blocks_[block];
-    if (b.internal) return label;
-    const JointSpec& js = spec_.joints[b.joint];
-    if (js.where.file.empty() && js.where.line <= 0) return label;
-    const std::size_t after_position =
-        (js.where.file + ":" + std::to_string(js.where.line) + ":" + std::to_string(js.where.column) + ": ").size();
-    return label.insert(after_position, "error: ");
+    const std::size_t joint = label.find("joint '");
+    if (joint != std::string::npos && joint > 0) label.insert(joint, "error: ");
+    return label;
   };
   // Joint misses at the given poses.
   evaluate(t0, y0_.data(), 2);
