@@ -9,10 +9,19 @@ to be right (it was first run on commit 4f13209, before the core was split
 for many bodies); the guard then holds every later build to those numbers.
 
     /usr/bin/python3 tools/pin_guard.py [--cli build/rigidae]
+    /usr/bin/python3 tools/pin_guard.py --mechanisms [--cli build/rigidae]
+
+--mechanisms pins the shipped mechanism scenes (schema_version 2) instead,
+into tests/guard/pinned_mechanisms.json: each scene's default run and a
+spread of coordinates x equations x scheme combinations, with IDA's counters
+and every body's final orientation and position (the last row of
+trajectory.csv). First run on commit 84ddc6d, before the single-body and
+multibody stacks were joined.
 """
 import argparse
 import json
 import pathlib
+import re
 import subprocess
 import sys
 import tempfile
@@ -38,11 +47,82 @@ def runs():
         yield f"{scene.stem}/default", f"problems/{scene.name}", []
 
 
+# Mechanism runs: every shipped schema-2 scene in its own formulation, then
+# combinations that reach each representation and scheme at least once. The
+# double pendulum is chaotic: its combinations stop at t = 1 s.
+MECHANISM_COMBINATIONS = [
+    ("four_bar", ["--coordinates", "quaternion", "--equations", "lagrange", "--scheme", "index3"]),
+    ("four_bar", ["--coordinates", "quaternion", "--equations", "euler", "--scheme", "index2"]),
+    ("four_bar", ["--coordinates", "linear", "--equations", "euler", "--scheme", "index1"]),
+    ("four_bar", ["--coordinates", "linear", "--equations", "lagrange", "--scheme", "baumgarte"]),
+    ("four_bar", ["--coordinates", "euler", "--equations", "euler"]),
+    ("four_bar", ["--coordinates", "quaternion", "--equations", "euler", "--scheme", "projection"]),
+    ("double_pendulum", ["--t-end", "1", "--coordinates", "euler", "--equations", "lagrange"]),
+    ("double_pendulum", ["--t-end", "1", "--coordinates", "linear", "--equations", "euler", "--scheme", "ggl"]),
+    ("heavy_top_absolute", ["--coordinates", "linear", "--equations", "lagrange", "--scheme", "ggl"]),
+    ("slider_mechanism", ["--coordinates", "quaternion", "--equations", "lagrange", "--scheme", "index1"]),
+    ("chain_10", ["--coordinates", "quaternion", "--equations", "lagrange", "--scheme", "ggl"]),
+]
+
+
+def is_mechanism(scene):
+    return re.search(r"^\s*schema_version\s*=\s*2\b", scene.read_text(), re.M) is not None
+
+
+def mechanism_runs():
+    """(name, scene, extra arguments) of every pinned mechanism run."""
+    for scene in sorted((ROOT / "problems").glob("*.toml")):
+        if is_mechanism(scene):
+            yield f"{scene.stem}/default", f"problems/{scene.name}", []
+    for stem, extra in MECHANISM_COMBINATIONS:
+        values = dict(zip(extra[::2], extra[1::2]))
+        name = stem + "/" + "/".join(values[k] for k in ["--coordinates", "--equations", "--scheme"] if k in values)
+        if "--t-end" in values:
+            name += f" to t = {values['--t-end']}"
+        yield name, f"problems/{stem}.toml", extra
+
+
+def final_bodies(trajectory):
+    """Every body's last orientation (qw..qz) and position (x..z) in trajectory.csv."""
+    lines = [l for l in trajectory.read_text().splitlines() if l and not l.startswith("#")]
+    header, last = lines[0].split(","), [float(x) for x in lines[-1].split(",")]
+    row = dict(zip(header, last))
+    bodies = [h[:-3] for h in header if h.endswith(".qw")]
+    return row["t"], {b: {"q": [row[f"{b}.q{c}"] for c in "wxyz"], "x": [row[f"{b}.{c}"] for c in "xyz"]}
+                      for b in bodies}
+
+
+def pin_mechanisms(cli, out_path):
+    commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
+                            capture_output=True, text=True).stdout.strip()
+    pinned = {"commit": commit, "runs": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, scene, extra in mechanism_runs():
+            out = pathlib.Path(tmp) / name.replace("/", "-")
+            cmd = [cli, "solve", scene, "--quiet", "--out", str(out)] + extra
+            subprocess.run(cmd, cwd=ROOT, check=True)
+            s = json.loads((out / "summary.json").read_text())
+            t, bodies = final_bodies(out / "trajectory.csv")
+            pinned["runs"].append({
+                "name": name, "scene": scene, "args": extra, "status": s["status"],
+                "counters": {k: s["counters"][k] for k in COUNTERS},
+                "t": t, "bodies": bodies,
+            })
+            print(name, s["counters"]["steps"], file=sys.stderr)
+    pathlib.Path(out_path).write_text(json.dumps(pinned, indent=1) + "\n")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--cli", default=str(ROOT / "build" / "rigidae"))
     ap.add_argument("--out", default=str(ROOT / "tests" / "guard" / "pinned.json"))
+    ap.add_argument("--mechanisms", action="store_true",
+                    help="pin the mechanism scenes into tests/guard/pinned_mechanisms.json")
     args = ap.parse_args()
+    if args.mechanisms:
+        out = args.out if args.out != ap.get_default("out") else str(ROOT / "tests" / "guard" / "pinned_mechanisms.json")
+        pin_mechanisms(args.cli, out)
+        return
     commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
                             capture_output=True, text=True).stdout.strip()
     pinned = {"commit": commit, "runs": []}
