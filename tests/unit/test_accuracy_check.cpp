@@ -15,6 +15,8 @@
 
 #include "cli_runner.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 namespace fs = std::filesystem;
 using rigidae::test::fresh_temp_dir;
 using rigidae::test::read_file;
@@ -64,7 +66,7 @@ std::vector<Row> read_compare(const fs::path& csv) {
 
 }  // namespace
 
-TEST_CASE("accuracy check: on the intermediate-axis body, runs that lost the flip phase are flagged, right ones not") {
+TEST_CASE("accuracy check: on the intermediate-axis body, runs that lost the flip phase are flagged, right ones not" * doctest::test_suite("slow")) {
   const fs::path out = fresh_temp_dir("accuracy_dzhanibekov");
   // The Lagrange forms nearest the limit (measured 2.2 to 3.5 x 2 sqrt(N)
   // tolerances) and the Euler forms farthest from it (linear/euler/index2
@@ -103,7 +105,7 @@ TEST_CASE("accuracy check: on the intermediate-axis body, runs that lost the fli
   CHECK(read_file(out / "compare.txt").find("accuracy warnings") != std::string::npos);
 }
 
-TEST_CASE("accuracy check: solve prints the warning and still exits 0; a right run prints none") {
+TEST_CASE("accuracy check: solve prints the warning and still exits 0, and a right run prints none") {
   const fs::path out = fresh_temp_dir("accuracy_solve");
   auto r = run_cli("solve " + kDzhanibekov + " --t-end 60 --rtol 1e-10 --atol 1e-10 --coordinates quaternion "
                    "--equations lagrange --scheme index3 --quiet --out " + out.string());
@@ -120,3 +122,5 @@ TEST_CASE("accuracy check: solve prints the warning and still exits 0; a right r
   CHECK(s["accuracy_check"]["angular_momentum"].get<double>() > 0);
   CHECK(s["accuracy_check"]["vertical_angular_momentum"].is_null());  // the full vector is checked instead
 }
+
+TEST_SUITE_END();

@@ -17,6 +17,8 @@
 
 #include "cli_runner.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 namespace fs = std::filesystem;
 using rigidae::test::run_cli;
 
@@ -71,7 +73,7 @@ std::string regex_escape(const std::string& s) {
 
 }  // namespace
 
-TEST_CASE("bad input: every scene in tests/bad_scenes gets FILE:LINE:COL, its message and its exit code") {
+TEST_CASE("bad input: every scene in tests/bad_scenes gets FILE:LINE:COL, its message and its exit code" * doctest::test_suite("slow")) {
   const fs::path out = rigidae::test::fresh_temp_dir("bad_scenes");
   const std::vector<fs::path> files = corpus();
   CHECK(files.size() >= 90);
@@ -182,3 +184,5 @@ TEST_CASE("bad input: a scene path that is not UTF-8 still gives a valid summary
   CHECK(summary.find("k\xef\xbf\xbdrper.toml") != std::string::npos);  // the byte replaced by U+FFFD
   fs::remove_all(dir);
 }
+
+TEST_SUITE_END();

@@ -7,6 +7,8 @@
 
 #include "cli_runner.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 namespace {
 
 using Result = rigidae::test::CliResult;
@@ -166,3 +168,5 @@ TEST_CASE("rigidae study: list prints one command per run, run needs a slice, co
   CHECK(std::filesystem::exists(dir / "out" / "results.csv"));
   CHECK(std::filesystem::exists(dir / "out" / "best.md"));
 }
+
+TEST_SUITE_END();

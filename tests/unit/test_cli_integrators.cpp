@@ -12,6 +12,8 @@
 
 #include "cli_runner.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 namespace {
 
 using rigidae::test::run_cli;
@@ -87,3 +89,5 @@ TEST_CASE("cli: the ODE integrators run through solve and say so in summary.json
   const auto s = nlohmann::json::parse(in);
   CHECK(s["configuration"]["formulation"]["scheme"].get<std::string>() == "projection");
 }
+
+TEST_SUITE_END();

@@ -14,6 +14,8 @@
 #include "cli_runner.hpp"
 #include "rigidae/record/columns.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 namespace fs = std::filesystem;
 namespace columns = rigidae::columns;
 
@@ -93,3 +95,5 @@ TEST_CASE("columns: a run's CSV rows match their header, and summary.json's fina
   }
   fs::remove_all(out);
 }
+
+TEST_SUITE_END();

@@ -19,6 +19,8 @@
 #include "rigidae/schemes/scheme.hpp"
 #include "test_scenes.hpp"
 
+TEST_SUITE_BEGIN("unit");
+
 using namespace rigidae;
 
 namespace {
@@ -97,3 +99,5 @@ TEST_CASE("multipliers act as the kind of their constraint block says, in every 
   CHECK(kinematic_blocks > 0);
   CHECK(force_blocks > 0);
 }
+
+TEST_SUITE_END();

@@ -21,6 +21,8 @@
 #include "rigidae/settings/settings.hpp"
 #include "test_scenes.hpp"
 
+TEST_SUITE_BEGIN("unit");
+
 using namespace rigidae;
 
 namespace {
@@ -149,3 +151,5 @@ TEST_CASE("coordinates registry: compare's combinations are the registry's coord
   // The 26 of the heavy top's guard: 2 forms x (1 + 6 + 6).
   CHECK(got.size() == 26);
 }
+
+TEST_SUITE_END();

@@ -22,6 +22,8 @@
 #include "rigidae/so3/rotation.hpp"
 #include "test_scenes.hpp"
 
+TEST_SUITE_BEGIN("unit");
+
 using namespace rigidae;
 using namespace rigidae::exact;
 
@@ -539,3 +541,5 @@ TEST_CASE("an exact-solution evaluation costs microseconds") {
     CHECK(us < 100.0);
   }
 }
+
+TEST_SUITE_END();

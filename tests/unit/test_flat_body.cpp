@@ -12,6 +12,8 @@
 
 #include "cli_runner.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 namespace fs = std::filesystem;
 using rigidae::test::fresh_temp_dir;
 using rigidae::test::read_file;
@@ -109,3 +111,5 @@ TEST_CASE("flat body: the ODE integrators solve a lamina in linear coordinates' 
   CHECK(w[0].lagrange < 1e-4);
   CHECK(w[0].lagrange < 5 * w[1].lagrange);
 }
+
+TEST_SUITE_END();

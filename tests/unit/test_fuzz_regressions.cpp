@@ -14,6 +14,8 @@
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
 
+TEST_SUITE_BEGIN("unit");
+
 namespace fs = std::filesystem;
 
 TEST_CASE("fuzz regressions: every input the fuzzer found gives a clean one-line InputError") {
@@ -81,3 +83,5 @@ TEST_CASE("fuzz regressions: an overconstrained loop of spherical joints is refu
   for (std::size_t p = list.find("row '"); p != std::string::npos; p = list.find("row '", p + 1)) ++listed;
   CHECK(listed == std::min(dependent, 8));
 }
+
+TEST_SUITE_END();

@@ -23,6 +23,8 @@
 
 #include "cli_runner.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 namespace {
 
 using nlohmann::json;
@@ -122,7 +124,7 @@ void check_mechanism_run(const json& pin) {
 
 }  // namespace
 
-TEST_CASE("guard: every shipped mechanism keeps today's counters and final body states") {
+TEST_CASE("guard: every shipped mechanism keeps today's counters and final body states" * doctest::test_suite("slow")) {
   int n = 0;
   for (const auto& pin : pinned_runs("pinned_mechanisms.json")) {
     check_mechanism_run(pin);
@@ -131,7 +133,7 @@ TEST_CASE("guard: every shipped mechanism keeps today's counters and final body 
   CHECK(n >= 16);
 }
 
-TEST_CASE("guard: the 26 combinations on the heavy top keep today's counters and final state") {
+TEST_CASE("guard: the 26 combinations on the heavy top keep today's counters and final state" * doctest::test_suite("slow")) {
   int n = 0;
   for (const auto& pin : pinned_runs())
     if (pin["name"].get<std::string>().rfind("heavy_top/", 0) == 0 && pin["args"].size() > 0) {
@@ -141,7 +143,7 @@ TEST_CASE("guard: the 26 combinations on the heavy top keep today's counters and
   CHECK(n == 26);
 }
 
-TEST_CASE("guard: every shipped scene keeps today's counters and final state in its own formulation") {
+TEST_CASE("guard: every shipped scene keeps today's counters and final state in its own formulation" * doctest::test_suite("slow")) {
   int n = 0;
   for (const auto& pin : pinned_runs())
     if (pin["args"].empty()) {
@@ -150,3 +152,5 @@ TEST_CASE("guard: every shipped scene keeps today's counters and final state in 
     }
   CHECK(n >= 9);
 }
+
+TEST_SUITE_END();

@@ -22,6 +22,8 @@
 #include "rigidae/model/rigid_body.hpp"
 #include "rigidae/so3/rotation.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 using namespace rigidae;
 
 namespace {
@@ -137,7 +139,7 @@ long peak_rss_kb_of_run(const Scene& s, const std::string& label) {
 
 }  // namespace
 
-TEST_CASE("sleeping top: the zxz chart is left at the start; Euler angles then track the exact solution") {
+TEST_CASE("sleeping top: the zxz chart is left at the start, and Euler angles then track the exact solution") {
   Scene s = problem("sleeping_top");
   s.time.end = 0.5;  // three passes within ~1e-6 rad of the vertical
   const Run euler = run(s, "switching");
@@ -178,7 +180,7 @@ TEST_CASE("sleeping top: the zxz chart itself survives the passes when the thres
   CHECK_THROWS_AS(solve_scene(off, scratch("sleeping-off")), InputError);
 }
 
-TEST_CASE("Dzhanibekov flip: the flip interval is 2 K(k) / lambda; invariants hold over the flips") {
+TEST_CASE("Dzhanibekov flip: the flip interval is 2 K(k) / lambda, and invariants hold over the flips") {
   Scene s = problem("dzhanibekov");
   s.time.end = 26.0;  // three flips
   const Run r = run(s, "quaternion");
@@ -230,7 +232,7 @@ TEST_CASE("Dzhanibekov flip: Euler angles with switching track the flips, with f
   CHECK(euler.outcome.run.counters.steps < quat.outcome.run.counters.steps);
 }
 
-TEST_CASE("falling top: it falls past the horizontal and back; every form tracks the exact solution") {
+TEST_CASE("falling top: it falls past the horizontal and back, and every form tracks the exact solution") {
   Scene s = problem("falling_top");
   s.time.end = 2.0;  // six falls
   const Run quat = run(s, "quaternion");
@@ -249,7 +251,7 @@ TEST_CASE("falling top: it falls past the horizontal and back; every form tracks
   CHECK(quat.outcome.extremes.max_abs_vertical_momentum_error < 2e-6);  // measured 4.8e-7
 }
 
-TEST_CASE("thin rod top: Euler angles handle the near-degenerate inertia; the quaternion Lagrange form does not") {
+TEST_CASE("thin rod top: Euler angles handle the near-degenerate inertia, and the quaternion Lagrange form does not") {
   Scene s = problem("thin_rod_top");
   s.time.end = 1.0;
   const Run angles = run(with(s, Coordinates::EulerAngles, Equations::Lagrange), "euler-lagrange");
@@ -265,7 +267,7 @@ TEST_CASE("thin rod top: Euler angles handle the near-degenerate inertia; the qu
   CHECK(quat.outcome.extremes.last.omega_B(2) == doctest::Approx(100.0).epsilon(1e-8));
 }
 
-TEST_CASE("nearly symmetric body: the closed form is continuous across I2 - I1 -> 0; integrations agree") {
+TEST_CASE("nearly symmetric body: the closed form is continuous across I2 - I1 -> 0, and integrations agree") {
   const Scene s = problem("nearly_symmetric_body");
   Scene symmetric = s;
   symmetric.body.inertia_com(1, 1) = symmetric.body.inertia_com(0, 0);
@@ -367,3 +369,5 @@ TEST_CASE("every scene in problems/ loads and starts") {
   }
   CHECK(scenes >= 8);
 }
+
+TEST_SUITE_END();

@@ -10,6 +10,8 @@
 #include "rigidae/so3/rotation.hpp"
 #include "test_scenes.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 using namespace rigidae;
 
 namespace {
@@ -56,7 +58,7 @@ TEST_CASE("the heavy top ends near the published quaternion at t = 2 s") {
   CHECK(so3::quaternion_distance(reference_q(), published.normalized()) < 3e-5);
 }
 
-TEST_CASE("the six combinations agree with each other at t = 2 s") {
+TEST_CASE("the six combinations agree with each other at t = 2 s" * doctest::test_suite("slow")) {
   for (const Combo& k : kSix) {
     CAPTURE(label(k));
     // At rtol 1e-12 every combination is within 1e-6 rad of the reference.
@@ -87,7 +89,7 @@ TEST_CASE("every start is consistent to round-off") {
     }
 }
 
-TEST_CASE("energy and vertical angular momentum are conserved to the tolerance's order") {
+TEST_CASE("energy and vertical angular momentum are conserved to the tolerance's order" * doctest::test_suite("slow")) {
   for (const Combo& k : kSix) {
     CAPTURE(label(k));
     const SolveOutcome o = run(k.c, k.e, "ggl", 1e-10);
@@ -101,7 +103,7 @@ TEST_CASE("energy and vertical angular momentum are conserved to the tolerance's
   }
 }
 
-TEST_CASE("GGL holds both constraint levels; index 1 lets them drift") {
+TEST_CASE("GGL holds both constraint levels, and index 1 lets them drift") {
   for (const Combo& k : kSix) {
     if (k.c == Coordinates::EulerAngles) continue;
     CAPTURE(label(k));
@@ -167,3 +169,5 @@ TEST_CASE("the output grid holds the start and the end exactly") {
   CHECK(g.back() == 2.0);
   CHECK(output_grid({0.0, 1.0, 0.1}).size() == 11);
 }
+
+TEST_SUITE_END();

@@ -23,6 +23,8 @@
 #include "alloc_counter.hpp"
 #include "test_scenes.hpp"
 
+TEST_SUITE_BEGIN("unit");
+
 using namespace rigidae;
 
 namespace {
@@ -378,3 +380,5 @@ TEST_CASE("scene keys solver.jacobian and solver.linear_solver") {
   CHECK(dq_klu.rfind("scene.toml:12:17: error:", 0) == 0);
   CHECK(dq_klu.find("\"exact\" or \"central\"") != std::string::npos);
 }
+
+TEST_SUITE_END();

@@ -12,6 +12,8 @@
 
 #include "cli_runner.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -69,3 +71,5 @@ TEST_CASE("multibody accuracy check: energy is checked only where the scene cons
   CHECK(summary.find("\"energy\": null") != std::string::npos);
   CHECK(summary.find("\"constraint_position\": null") == std::string::npos);
 }
+
+TEST_SUITE_END();

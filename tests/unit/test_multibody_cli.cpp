@@ -13,6 +13,8 @@
 
 #include "cli_runner.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -150,3 +152,5 @@ TEST_CASE("multibody cli: compare on a multibody scene runs every coordinates x 
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("ida only") != std::string::npos);
 }
+
+TEST_SUITE_END();

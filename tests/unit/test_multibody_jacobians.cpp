@@ -15,6 +15,8 @@
 #include "rigidae/schemes/scheme.hpp"
 #include "test_multibody_scenes.hpp"
 
+TEST_SUITE_BEGIN("unit");
+
 using namespace rigidae;
 using multibody::MultibodyProblem;
 
@@ -74,7 +76,7 @@ constexpr double kMatrixTolerance = 1e-8;
 
 }  // namespace
 
-TEST_CASE("multibody: exact iteration matrix = differences, every joint x representation x form x scheme") {
+TEST_CASE("multibody: exact iteration matrix = differences, every joint x representation x form x scheme" * doctest::test_suite("slow")) {
   std::mt19937 rng(4242);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   double worst = 0.0, worst_start_residual = 0.0;
@@ -156,3 +158,5 @@ TEST_CASE("multibody: the sparse pattern of a chain grows linearly with the numb
       MESSAGE(to_string(c) << "/" << to_string(e) << ": nonzeros per link " << (nnz[1] - nnz[0]) / 10);
     }
 }
+
+TEST_SUITE_END();

@@ -22,6 +22,8 @@
 #include "rigidae/so3/euler_sequence.hpp"
 #include "rigidae/so3/rotation.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 using namespace rigidae;
 namespace fs = std::filesystem;
 
@@ -428,3 +430,5 @@ TEST_CASE("schema 2: a nearly perpendicular normal or pin is corrected with a wa
   CHECK(std::abs((m.bodies[0].R0_WB * j.axis_a).dot(m.bodies[1].R0_WB * j.axis_b)) < 1e-16);
   CHECK((m.bodies[1].R0_WB * j.axis_b - Vec3::UnitY()).norm() < 1e-15);
 }
+
+TEST_SUITE_END();

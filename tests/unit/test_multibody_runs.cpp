@@ -22,6 +22,8 @@
 #include "test_multibody_scenes.hpp"
 #include "test_scenes.hpp"
 
+TEST_SUITE_BEGIN("unit");
+
 using namespace rigidae;
 using multibody::MultibodyProblem;
 
@@ -156,7 +158,7 @@ TEST_CASE("multibody run: two welded bodies = the combined body's exact free-bod
     }
 }
 
-TEST_CASE("multibody run: a conservative double pendulum keeps its energy in every scheme; KLU = dense") {
+TEST_CASE("multibody run: a conservative double pendulum keeps its energy in every scheme, and KLU = dense") {
   for (Coordinates c : {Coordinates::Quaternion, Coordinates::Linear})
     for (Equations e : kEquations)
       for (const std::string& scheme : scheme_names()) {
@@ -241,3 +243,5 @@ TEST_CASE("multibody run: solver.linear_solver = auto takes KLU from kKluFromUnk
     CHECK(resolve_linear_solver(dq.solver, p) == "dense");
   }
 }
+
+TEST_SUITE_END();

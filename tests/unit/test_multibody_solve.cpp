@@ -13,6 +13,8 @@
 #include "rigidae/app/solve.hpp"
 #include "test_multibody_scenes.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 using namespace rigidae;
 
 TEST_CASE("multibody solve: trajectory, steps, events and summary with named columns") {
@@ -45,3 +47,5 @@ TEST_CASE("multibody solve: trajectory, steps, events and summary with named col
   CHECK(o.extremes.steps_recorded == o.run.counters.steps);
   std::filesystem::remove_all(dir);
 }
+
+TEST_SUITE_END();

@@ -14,6 +14,8 @@
 #include "test_multibody_scenes.hpp"
 #include "test_scenes.hpp"
 
+TEST_SUITE_BEGIN("unit");
+
 using namespace rigidae;
 using multibody::MultibodyProblem;
 
@@ -88,7 +90,7 @@ TEST_CASE("multibody heavy top: the start's acceleration is the pivoted model's,
     }
 }
 
-TEST_CASE("multibody start: a miss above the tolerance names the joint; a small one is projected") {
+TEST_CASE("multibody start: a miss above the tolerance names the joint, and a small one is projected") {
   Scene s = test::two_body_chain(JointType::Revolute, Coordinates::Quaternion, Equations::Lagrange, "ggl");
   s.multibody->joints[1].point_b += Vec3(0, 0, 1e-3);
   const std::string big = error_of(s);
@@ -187,3 +189,5 @@ TEST_CASE("multibody start: two welded bodies accelerate as one body with the co
         CHECK((r.force - m.bodies[1].mass * (aB - m.gravity_W)).norm() < 1e-9);
       }
 }
+
+TEST_SUITE_END();

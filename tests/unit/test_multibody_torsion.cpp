@@ -28,6 +28,8 @@
 #include "rigidae/so3/rotation.hpp"
 #include "test_multibody_scenes.hpp"
 
+TEST_SUITE_BEGIN("unit");
+
 using namespace rigidae;
 using multibody::MultibodyProblem;
 
@@ -270,7 +272,7 @@ TEST_CASE("torsion: the spring's potential is the integral of its torque (-dV/dt
   }
 }
 
-TEST_CASE("torsion: an undamped spring keeps the energy check; its drift is the energy's, and scales with the tolerance") {
+TEST_CASE("torsion: an undamped spring keeps the energy check, and its drift is the energy's, and scales with the tolerance") {
   // Before: any torsional spring switched the energy check off. Now the
   // spring's potential is in H, and a spring wound at rest (T0 = 0, no
   // gravity) counts its energy in the scale E_s = H0. The check's measure is
@@ -346,3 +348,5 @@ TEST_CASE("torsion: a damped spring loses exactly the energy its damper dissipat
   CHECK(worst < 1e-7 * E0);
   MESSAGE("E0 " << E0 << " J, lost " << lost << " J, largest |E0 - E - integral c theta'^2| " << worst << " J");
 }
+
+TEST_SUITE_END();

@@ -18,6 +18,8 @@
 #include "rigidae/solver/integrators.hpp"
 #include "rigidae/solver/ode_driver.hpp"
 
+TEST_SUITE_BEGIN("unit");
+
 using namespace rigidae;
 
 namespace {
@@ -175,7 +177,7 @@ TEST_CASE("ODE integrators: projection keeps |q|^2 - 1 and R^T R - I at round-of
       }
 }
 
-TEST_CASE("ODE integrators: without projection the drift grows; the integrator/scheme table rejects other pairs") {
+TEST_CASE("ODE integrators: without projection the drift grows, and the integrator/scheme table rejects other pairs") {
   Scene s = scene_for("heavy_top.toml", Coordinates::Quaternion, Equations::Euler, "index1", 1e-6, 0.5);
   const Outcome o = run(s, "arkode-erk");
   REQUIRE(o.run.status == RunStatus::Success);
@@ -198,3 +200,5 @@ TEST_CASE("ODE integrators: without projection the drift grows; the integrator/s
   CHECK_THROWS_AS(find_integrator("rk4"), InputError);
   CHECK_THROWS_AS(find_erk_method("verner87"), InputError);
 }
+
+TEST_SUITE_END();

@@ -20,6 +20,8 @@
 #include "cli_runner.hpp"
 #include "rigidae/io/checked_file.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 namespace fs = std::filesystem;
 using rigidae::test::fresh_temp_dir;
 using rigidae::test::read_file;
@@ -146,3 +148,5 @@ TEST_CASE("output: a study run that cannot write is never counted complete") {
   CHECK(collect.exit_code == 1);
   CHECK(collect.output.find("1 run of the study have no complete folder yet") != std::string::npos);
 }
+
+TEST_SUITE_END();

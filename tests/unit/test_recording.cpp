@@ -21,6 +21,8 @@
 #include "test_multibody_scenes.hpp"
 #include "test_scenes.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 namespace fs = std::filesystem;
 using namespace rigidae;
 
@@ -303,3 +305,5 @@ TEST_CASE("recording: solve --record, --step-format and --error-estimate on the 
   CHECK(summary.find("\"error_estimate\"") != std::string::npos);
   CHECK(summary.find("\"tight_rtol\": 1e-08") != std::string::npos);
 }
+
+TEST_SUITE_END();

@@ -9,6 +9,8 @@
 #include "rigidae/so3/rotation.hpp"
 #include "test_scenes.hpp"
 
+TEST_SUITE_BEGIN("unit");
+
 using namespace rigidae;
 
 namespace {
@@ -209,3 +211,5 @@ TEST_CASE("every representation round-trips a physical state") {
     if (b.rep->nc() > 0) CHECK(t.phi.norm() < 1e-14);
   }
 }
+
+TEST_SUITE_END();

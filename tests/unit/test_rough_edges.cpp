@@ -10,6 +10,8 @@
 
 #include "cli_runner.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 namespace fs = std::filesystem;
 using rigidae::test::fresh_temp_dir;
 using rigidae::test::run_cli;
@@ -67,3 +69,5 @@ TEST_CASE("rough edges: compare and study keep step files only with --keep-steps
     CHECK(steps == (keep ? 1 : 0));
   }
 }
+
+TEST_SUITE_END();

@@ -11,6 +11,8 @@
 #include "rigidae/core/error.hpp"
 #include "rigidae/io/scene_loader.hpp"
 
+TEST_SUITE_BEGIN("unit");
+
 using namespace rigidae;
 
 namespace {
@@ -432,3 +434,5 @@ TEST_CASE("scene loader: absurd magnitudes are rejected") {
   CHECK_SCENE_ERROR("schema_version = 1\n" + kBody + "center_of_mass = [2e6, 0.0, 0.0]\n" + kInitial + kTime, 5, 18,
                     "'body.center_of_mass'", "metres");
 }
+
+TEST_SUITE_END();

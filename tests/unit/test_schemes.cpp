@@ -15,6 +15,8 @@
 #include "rigidae/so3/rotation.hpp"
 #include "test_scenes.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 using namespace rigidae;
 
 namespace {
@@ -53,7 +55,7 @@ TEST_CASE("every scheme starts consistently in every representation") {
     }
 }
 
-TEST_CASE("Lagrange form, rtol 1e-8: index 2 drifts in position only, index 1 at both levels and faster") {
+TEST_CASE("Lagrange form, rtol 1e-8: index 2 drifts in position only, index 1 at both levels and faster" * doctest::test_suite("slow")) {
   for (Coordinates c : kConstrained) {
     CAPTURE(to_string(c));
     const SolveOutcome ggl = run(heavy_top(c, Equations::Lagrange, "ggl", 1e-8));
@@ -112,7 +114,7 @@ TEST_CASE("Baumgarte's drift shrinks as its gains grow") {
   }
 }
 
-TEST_CASE("projection keeps the drift below its threshold and pays in restarts") {
+TEST_CASE("projection keeps the drift below its threshold and pays in restarts" * doctest::test_suite("slow")) {
   for (Coordinates c : kConstrained)
     for (Equations e : {Equations::Lagrange, Equations::Euler}) {
       CAPTURE(to_string(c));
@@ -183,7 +185,7 @@ TEST_CASE("the linear-coordinate projection is the polar factor and keeps the ki
   CHECK((y.head(9) - exact.head(9)).norm() < 1e-3);
 }
 
-TEST_CASE("every combination agrees with a tight reference as its tolerance promises, or reports failure") {
+TEST_CASE("every combination agrees with a tight reference as its tolerance promises, or reports failure" * doctest::test_suite("slow")) {
   Scene s = test::heavy_top_scene();
   s.solver.rtol = s.solver.atol = 1e-10;
   CompareOptions opt;
@@ -253,3 +255,5 @@ TEST_CASE("the closed-form reference and the tight-run reference give the same e
     CHECK(std::abs(exact.rows[i].error_final_rad - tight.rows[i].error_final_rad) < 1e-7);
   }
 }
+
+TEST_SUITE_END();

@@ -20,6 +20,8 @@
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/settings/settings.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 namespace fs = std::filesystem;
 using rigidae::InputError;
 using rigidae::Scene;
@@ -268,3 +270,5 @@ TEST_CASE("settings: a study file refuses what the command line refuses, in the 
         after(cli_error({"--repeat", "0"}, "compare"), "option --repeat: "));
   fs::remove_all(dir);
 }
+
+TEST_SUITE_END();

@@ -14,6 +14,8 @@
 #include "rigidae/so3/euler_sequence.hpp"
 #include "rigidae/so3/rotation.hpp"
 
+TEST_SUITE_BEGIN("unit");
+
 using namespace rigidae;
 using namespace rigidae::so3;
 
@@ -294,3 +296,5 @@ TEST_CASE("Euler sequences: the most regular sequence is the one farthest from g
     CHECK(m >= std::sqrt(2.0 / 3.0) - 1e-12);
   }
 }
+
+TEST_SUITE_END();

@@ -10,6 +10,8 @@
 
 #include "rigidae/so3/rotation.hpp"
 
+TEST_SUITE_BEGIN("unit");
+
 using namespace rigidae;
 using namespace rigidae::so3;
 
@@ -250,3 +252,5 @@ TEST_CASE("so3: nearest rotation is the orthogonal polar factor with det +1") {
   CHECK(Qm.determinant() == doctest::Approx(1.0));
   CHECK(max_abs(Qm.transpose() * Qm - Mat3::Identity()) < 1e-14);
 }
+
+TEST_SUITE_END();

@@ -16,6 +16,8 @@
 #include "cli_runner.hpp"
 #include "rigidae/so3/rotation.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 namespace fs = std::filesystem;
 using rigidae::test::fresh_temp_dir;
 using rigidae::test::read_file;
@@ -113,3 +115,5 @@ TEST_CASE("solve on a scene without a closed form writes no reference.csv and no
     CHECK(!nlohmann::json::parse(read_file(out / "summary.json")).contains("closed_form_error"));
   }
 }
+
+TEST_SUITE_END();

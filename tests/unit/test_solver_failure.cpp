@@ -22,6 +22,8 @@
 
 #include "cli_runner.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 namespace fs = std::filesystem;
 using rigidae::test::run_cli;
 
@@ -198,3 +200,5 @@ TEST_CASE("solver failure: Ctrl-C (SIGINT) stops the run between steps, keeps it
 TEST_CASE("solver failure: SIGTERM stops the run between steps, keeps it and exits 1") {
   check_interrupt(SIGTERM, "sigterm");
 }
+
+TEST_SUITE_END();

@@ -18,6 +18,8 @@
 #include "rigidae/solver/ida_driver.hpp"
 #include "test_scenes.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 using namespace rigidae;
 namespace fs = std::filesystem;
 
@@ -312,3 +314,5 @@ TEST_CASE("a tight reference that fails stops the study with the reason, and lea
   CHECK_FALSE(fs::exists(opt.out / "reference" / "free_body_short"));
   CHECK_FALSE(run_complete(opt.out, spec, plan_study(spec)[0]));
 }
+
+TEST_SUITE_END();

@@ -16,6 +16,8 @@
 #include "rigidae/app/study.hpp"
 #include "rigidae/core/error.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 using namespace rigidae;
 namespace fs = std::filesystem;
 
@@ -140,3 +142,5 @@ TEST_CASE("a study's integrators axis: valid pairs only, and positioned errors")
   CHECK(m.find("bad4.toml:6:17: error: 'grid.combinations[0]' = \"*@cvode-adams\" matches no combination") !=
         std::string::npos);
 }
+
+TEST_SUITE_END();

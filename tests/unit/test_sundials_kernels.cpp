@@ -19,6 +19,8 @@
 #include "solver/dense_lu_solver.hpp"
 #include "solver/serial_vector.hpp"
 
+TEST_SUITE_BEGIN("unit");
+
 namespace {
 
 struct Context {
@@ -210,3 +212,5 @@ TEST_CASE("rigidae's dense LU: the same factors and solutions as SUNLinSol_Dense
     SUNMatDestroy(Ao);
   }
 }
+
+TEST_SUITE_END();
