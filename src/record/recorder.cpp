@@ -41,11 +41,11 @@ std::unique_ptr<CsvStream> open_csv_if(bool wanted, const std::filesystem::path&
 }
 
 StepFile::StepFile(const columns::Table& table, const std::vector<std::string>& multiplier_names, bool with_chart,
-                   const OutputSettings& output, const std::filesystem::path& out_dir)
+                   const OutputSettings& output, const std::filesystem::path& out_dir, const std::string& units_more)
     : table_(table), with_chart_(with_chart) {
   const bool steps = output.record == RecordMode::Steps;
   csv_ = open_csv_if(steps && output.step_format == StepFormat::Csv, out_dir / "steps.csv",
-                     columns::units_line(table), columns::header(table, columns::kSteps, multiplier_names, with_chart));
+                     columns::units_line(table) + units_more, columns::header(table, columns::kSteps, multiplier_names, with_chart));
   const std::filesystem::path npy = out_dir / "steps.npy";
   if (steps && output.step_format == StepFormat::Npy)
     npy_ = std::make_unique<NpyFile>(npy, columns::npy_fields(table, columns::kSteps, multiplier_names, with_chart));
@@ -84,7 +84,7 @@ void RunRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& 
   const Observation o = step_observer_.observe(t, y, problem_.chart());
   if (steps_) {
     const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
-    steps_.write({t, h, order, &o, chart});
+    steps_.write({t, h, order, &o, chart, {}});
   }
   extremes_.add_step(o);
 }
@@ -96,7 +96,7 @@ void RunRecorder::on_output(double t, const Eigen::VectorXd& y) {
   const Observation o = grid_observer_.observe(t, y, problem_.chart());
   if (row) {
     const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
-    write_row(trajectory_->file(), columns::kTrajectory, {t, 0.0, 0, &o, chart});
+    write_row(trajectory_->file(), columns::kTrajectory, {t, 0.0, 0, &o, chart, {}});
   }
   if (extremes_.steps_recorded == 0) extremes_.last = o;
 }
