@@ -8,6 +8,7 @@
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/record/columns.hpp"
+#include "rigidae/record/error_control.hpp"
 
 namespace rigidae {
 
@@ -53,15 +54,29 @@ StepFile::StepFile(const columns::Table& table, const std::vector<std::string>& 
     remove_stale(npy);
 }
 
+namespace {
+
+// The units line's addition when the run has multipliers and they are not
+// error-controlled (record/error_control.hpp).
+std::string multipliers_note(const ChartState& problem, const Scene& scene) {
+  if (problem.system().multiplier_names().empty()) return "";
+  const MultiplierErrorControl c = multiplier_error_control(
+      scene.solver.integrator, problem.system().scheme().suppress_multiplier_error_test(), problem.system().scheme().name());
+  return c.controlled ? std::string() : "; multipliers NOT error-controlled: " + c.note;
+}
+
+}  // namespace
+
 RunRecorder::RunRecorder(const ChartState& problem, const Scene& scene, const std::filesystem::path& out_dir)
     : problem_(problem),
       multiplier_names_(problem.system().multiplier_names()),
       with_chart_(problem.representation().has_charts()),
       step_observer_(problem.system(), scene),
       grid_observer_(problem.system(), scene),
-      steps_(columns::single_body(), multiplier_names_, with_chart_, scene.output, out_dir),
+      steps_(columns::single_body(), multiplier_names_, with_chart_, scene.output, out_dir,
+             multipliers_note(problem, scene)),
       trajectory_(open_csv_if(scene.output.record != RecordMode::None, out_dir / "trajectory.csv",
-                              columns::units_line(),
+                              columns::units_line() + multipliers_note(problem, scene),
                               columns::header(columns::kTrajectory, multiplier_names_, with_chart_))),
       events_(out_dir / "events.csv",
               "# units: t s; margin |det B| of the chart left (chart_switch), 1; drift_position |Phi| 1 and "
