@@ -10,7 +10,7 @@
 # folder (end time chosen for about STEPS_GOAL / sqrt(N) steps), then solved
 # REPEATS times per linear solver under /usr/bin/time -v. One JSON line per
 # (N, solver): the median of the wall times per step (summary.json's
-# wall_seconds / steps: integration and recording, not loading), the median
+# wall_time_s / steps: integration and recording, not loading), the median
 # CPU time per step (user + system of the whole process: steadier than wall
 # time on a loaded machine, includes loading), the steps, the residual
 # evaluations per step, the largest resident set (kB), the unknowns and the
@@ -71,7 +71,7 @@ n, ls, repeats, tmp = int(sys.argv[1]), sys.argv[2], int(sys.argv[3]), sys.argv[
 per_step, cpu, rss = [], [], []
 for r in range(repeats):
     s = json.load(open(os.path.join(tmp, f"run-{r}", "summary.json")))
-    per_step.append(s["wall_seconds"] / s["counters"]["steps"])
+    per_step.append(s["wall_time_s"] / s["counters"]["steps"])
     text = open(os.path.join(tmp, f"time-{r}.txt")).read()
     rss.append(int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", text).group(1)))
     seconds = sum(float(re.search(rf"{k} time \(seconds\): ([0-9.]+)", text).group(1)) for k in ("User", "System"))

@@ -239,7 +239,7 @@ def measure(rigidae, work):
         conf = s.get("configuration") or {}  # single-body summaries; multibody ones are flat
         t_end = (conf.get("time") or {}).get("end", s.get("t_reached"))
         rows.append([name, t_end, (s.get("counters") or {}).get("steps"),
-                     s.get("wall_time_s", s.get("wall_seconds")), s.get("status")])
+                     s.get("wall_time_s"), s.get("status")])
     write_csv(os.path.join(MEASURED, "multibody.csv"), ["scene", "t_end", "steps", "wall_s", "status"], rows)
 
 

@@ -23,7 +23,7 @@ initial energy and the agreement to JSON.
 
 run: one JSON line per tolerance with the peers' fields (peer "rigidae",
 method = the combination, setting_kind "tol", wall_s = the median of
-summary.json's wall_seconds over the repeats (the integration, without
+summary.json's wall_time_s over the repeats (the integration, without
 reading the scene or building the problem), steps, rhs_evals = residual
 evaluations, error_rad = the worst body's rotation angle to the reference,
 error_com_m = the worst centre-of-mass distance).
@@ -121,7 +121,7 @@ def reference(args) -> None:
         "combination": args.combination,
         "tol": args.rtol,
         "steps": main["counters"]["steps"],
-        "wall_seconds": main["wall_seconds"],
+        "wall_seconds": main["wall_time_s"],
         "initial_energy": main["final"]["initial_energy"],
         "final_energy": main["final"]["energy"],
         "cross_check": {"combination": args.cross, "tol": args.rtol, "steps": cross["counters"]["steps"],
@@ -132,7 +132,7 @@ def reference(args) -> None:
     }
     path = pathlib.Path(args.out or f"{name}_reference.json")
     path.write_text(json.dumps(out, indent=1) + "\n")
-    print(f"{path}: {name} {args.combination} at {args.rtol:g} ({out['steps']} steps, {main['wall_seconds']:.3g} s); "
+    print(f"{path}: {name} {args.combination} at {args.rtol:g} ({out['steps']} steps, {main['wall_time_s']:.3g} s); "
           f"{args.cross} differs by {rad:.2e} rad, {com:.2e} m (worst body {worst})", file=sys.stderr)
 
 
@@ -157,7 +157,7 @@ def run(args) -> None:
                 s = solve(args.rigidae, scene, args.combination, tol, t_end, tmp / f"run{r}")
                 if s.get("status") != "success":
                     break
-                walls.append(s["wall_seconds"])
+                walls.append(s["wall_time_s"])
                 process.append(s["_process_s"])
                 spent += s["_process_s"]
                 if spent >= args.budget:

@@ -259,16 +259,28 @@ class MultibodyRun(_RunOutcome):
                BODY.x..z, BODY.vx..vz, JOINT.force_x..z and torque_x..z on
                the joint's second body in space, JOINT.phi, JOINT.phi_dot,
                energy, p_x..p_z, L_x..L_z); None when record="none"
-    steps      per IDA step: t, h, order, drift_position, drift_velocity,
-               energy (as steps.csv); None unless record="steps"
+    steps      per IDA step, the columns of steps.csv: t, h, order,
+               drift_position, drift_velocity, energy, energy_rel_error, then
+               per recorded body its own constraints' multipliers
+               (BODY.lambda_*, BODY.mu_*) and per recorded joint its
+               multipliers (JOINT.lambda_<row>, JOINT.mu_<row>), reaction
+               (JOINT.force_x..z, JOINT.torque_x..z on the second body, space
+               frame) and drift (JOINT.phi, JOINT.phi_dot); the scene's
+               [output] bodies / joints choose the parts (by default all of
+               a mechanism of at most 50 joints, none of a larger one);
+               None unless record="steps". summary["multipliers_error_controlled"]
+               says whether the multipliers and reactions are held to rtol/atol
+               (with IDA they are not: summary["multipliers_error_note"])
     units      {column: unit} of grid's columns (as trajectory.csv's first line)
     bodies, joints   names, in the scene's order
     body(name)  {"t", "q" (n x 4, scalar first), "omega" (n x 3, rad/s, space),
                  "x" (n x 3, m), "v" (n x 3, m/s)} from the grid
     joint(name) {"t", "force" (n x 3, N), "torque" (n x 3, N m), "phi", "phi_dot"}:
-                 the reaction on the joint's second body, in space
+                 the reaction on the joint's second body, in space, on the grid
+    joint_steps(name)  the same at every IDA step (from steps)
     summary    status, message, t_reached, counters, linear_solver (the one
-               used), unknowns, warnings
+               used), unknowns, start_warnings, multipliers_error_controlled,
+               multipliers_error_note (summary.json's names)
     out        the folder steps.csv, trajectory.csv and events.csv went to, or None
     """
 
@@ -281,7 +293,8 @@ class MultibodyRun(_RunOutcome):
         self.joints = list(raw["joints"])
         self.units = dict(zip(raw["grid_columns"], raw["grid_units"]))
         self.summary = {k: raw[k] for k in ("status", "message", "t_reached", "linear_solver", "unknowns",
-                                            "start_warnings")}
+                                            "start_warnings", "multipliers_error_controlled",
+                                            "multipliers_error_note")}
         self.summary["counters"] = dict(raw["counters"])
         record = raw["record"]
         self.steps = _structured(raw["step_columns"], raw["steps"], [], ("order",)) if record == "steps" else None
@@ -306,6 +319,19 @@ class MultibodyRun(_RunOutcome):
         return {"t": self.grid["t"], "force": self._columns(name, ["force_x", "force_y", "force_z"]),
                 "torque": self._columns(name, ["torque_x", "torque_y", "torque_z"]),
                 "phi": self.grid[f"{name}.phi"], "phi_dot": self.grid[f"{name}.phi_dot"]}
+
+    def joint_steps(self, name):
+        if name not in self.joints:
+            raise KeyError(f"{name!r} is not a joint of this scene; joints: {', '.join(self.joints)}")
+        if self.steps is None:
+            raise ValueError("no steps recorded (record='steps' records them)")
+        if f"{name}.force_x" not in self.steps.dtype.names:
+            raise KeyError(f"joint {name!r} is not recorded per step: the scene's [output] joints leaves it out "
+                           "(or the mechanism has more than 50 joints and names none)")
+        cols = lambda names: np.column_stack([self.steps[f"{name}.{n}"] for n in names])
+        return {"t": self.steps["t"], "force": cols(["force_x", "force_y", "force_z"]),
+                "torque": cols(["torque_x", "torque_y", "torque_z"]),
+                "phi": self.steps[f"{name}.phi"], "phi_dot": self.steps[f"{name}.phi_dot"]}
 
     def __repr__(self):
         return (f"<rigidae.MultibodyRun {len(self.bodies)} bodies, {len(self.joints)} joints: {self.status}, "

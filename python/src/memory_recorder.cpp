@@ -54,6 +54,7 @@ void MemoryRecorder::append(std::vector<double>& rows, columns::File file, const
         for (int i = 0; i < m.size(); ++i) rows.push_back(m(i));
         break;
       }
+      case columns::Kind::Values: rows.insert(rows.end(), s.values.begin(), s.values.end()); break;
       case columns::Kind::Chart: {
         if (!with_chart_) break;
         auto it = std::find(chart_names_.begin(), chart_names_.end(), s.chart);
@@ -69,7 +70,7 @@ void MemoryRecorder::on_step(double t, double h, int order, const Eigen::VectorX
   const Observation o = step_observer_.observe(t, y, problem_.chart());
   if (keep_steps_) {
     const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
-    append(steps_, columns::kSteps, columns::Sample{t, h, order, &o, chart});
+    append(steps_, columns::kSteps, columns::Sample{t, h, order, &o, chart, {}});
   }
   extremes_.add_step(o);
 }
@@ -78,7 +79,7 @@ void MemoryRecorder::on_output(double t, const Eigen::VectorXd& y) {
   const Observation o = grid_observer_.observe(t, y, problem_.chart());
   if (keep_grid_) {
     const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
-    append(grid_, columns::kTrajectory, columns::Sample{t, 0.0, 0, &o, chart});
+    append(grid_, columns::kTrajectory, columns::Sample{t, 0.0, 0, &o, chart, {}});
   }
   if (extremes_.steps_recorded == 0) extremes_.last = o;
 }

@@ -14,6 +14,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstring>
 #include <filesystem>
@@ -29,6 +31,7 @@
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/record/error_control.hpp"
 #include "rigidae/record/multibody_recorder.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/record/columns.hpp"
@@ -185,24 +188,32 @@ py::dict solve(const Scene& scene, const std::string& record, const std::optiona
   return r;
 }
 
-// A multibody run held in memory: per step (t, h, order, drift, energy, as
-// steps.csv) and on the output grid (t and MultibodyProblem::output_row, as
-// trajectory.csv), forwarded to the file recorder when there is one.
+// A multibody run held in memory: per step (the columns of steps.csv: t, h,
+// order, drift, energy and its error, then the recorded parts' multipliers,
+// reactions and drift) and on the output grid (t and
+// MultibodyProblem::output_row, as trajectory.csv), forwarded to the file
+// recorder when there is one.
 class MultibodyMemory final : public StepSink {
  public:
   MultibodyMemory(multibody::MultibodyProblem& p, bool steps, bool grid, StepSink* files)
-      : p_(p), keep_steps_(steps), keep_grid_(grid), files_(files), row_(p.output_names().size()) {}
+      : p_(p), keep_steps_(steps), keep_grid_(grid), files_(files), step_parts_(recorded_parts(p.spec())),
+        grid_parts_(recorded_parts(p.spec(), false)), part_row_(p.step_part_names(step_parts_).size()),
+        row_(p.output_names(grid_parts_).size()) {}
   void on_step(double t, double h, int order, const Eigen::VectorXd& y) override {
     if (files_) files_->on_step(t, h, order, y);
     if (!keep_steps_) return;
     const auto [pos, vel] = p_.drift(t, y.data());
     const double H = p_.kinetic_energy(y.data()) + p_.potential_energy(y.data());
-    steps_.insert(steps_.end(), {t, h, static_cast<double>(order), pos, vel, H});
+    if (!have_H0_) H0_ = H, have_H0_ = true;
+    steps_.insert(steps_.end(), {t, h, static_cast<double>(order), pos, vel, H, (H - H0_) / std::max(std::abs(H0_), 1.0)});
+    if (!part_row_.empty()) p_.step_part_row(y.data(), step_parts_, part_row_.data());
+    steps_.insert(steps_.end(), part_row_.begin(), part_row_.end());
   }
   void on_output(double t, const Eigen::VectorXd& y) override {
     if (files_) files_->on_output(t, y);
+    if (!have_H0_) H0_ = p_.kinetic_energy(y.data()) + p_.potential_energy(y.data()), have_H0_ = true;
     if (!keep_grid_) return;
-    p_.output_row(y.data(), row_.data());
+    p_.output_row(y.data(), grid_parts_, row_.data());
     grid_.push_back(t);
     grid_.insert(grid_.end(), row_.begin(), row_.end());
   }
@@ -210,6 +221,12 @@ class MultibodyMemory final : public StepSink {
     if (files_) files_->on_event(n);
     events_.push_back(n);
   }
+  std::vector<std::string> step_columns() const {
+    std::vector<std::string> c{"t", "h", "order", "drift_position", "drift_velocity", "energy", "energy_rel_error"};
+    for (const std::string& n : p_.step_part_names(step_parts_)) c.push_back(n);
+    return c;
+  }
+  const RecordedParts& grid_parts() const { return grid_parts_; }
   std::vector<double> steps_, grid_;
   std::vector<EventNote> events_;
 
@@ -217,7 +234,10 @@ class MultibodyMemory final : public StepSink {
   multibody::MultibodyProblem& p_;
   bool keep_steps_, keep_grid_;
   StepSink* files_;
-  std::vector<double> row_;
+  RecordedParts step_parts_, grid_parts_;
+  std::vector<double> part_row_, row_;
+  double H0_ = 0.0;
+  bool have_H0_ = false;
 };
 
 py::dict solve_multibody(const Scene& scene, const std::string& record, const std::optional<std::string>& out) {
@@ -229,7 +249,8 @@ py::dict solve_multibody(const Scene& scene, const std::string& record, const st
     std::error_code ec;
     fs::create_directories(*out, ec);
     if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", *out, ec.message()));
-    files = std::make_unique<MultibodyRecorder>(problem, fs::path(*out));
+    files = std::make_unique<MultibodyRecorder>(problem, fs::path(*out), OutputSettings{}, scene.time,
+                                                scene.solver.integrator);
   }
   MultibodyMemory memory(problem, record == "steps", record != "none", files.get());
   RunResult run;
@@ -247,9 +268,9 @@ py::dict solve_multibody(const Scene& scene, const std::string& record, const st
     interrupted = interrupt.interrupted();
   }
   std::vector<std::string> grid_columns{"t"};
-  for (const std::string& n : problem.output_names()) grid_columns.push_back(n);
+  for (const std::string& n : problem.output_names(memory.grid_parts())) grid_columns.push_back(n);
   std::vector<std::string> units{"s"};
-  for (const std::string& u : problem.output_units()) units.push_back(u);
+  for (const std::string& u : problem.output_units(memory.grid_parts())) units.push_back(u);
   std::vector<std::string> bodies, joints;
   for (const auto& b : problem.bodies()) bodies.push_back(b.name);
   for (const auto& j : problem.spec().joints) joints.push_back(j.name);
@@ -276,8 +297,13 @@ py::dict solve_multibody(const Scene& scene, const std::string& record, const st
   r["bodies"] = bodies;
   r["joints"] = joints;
   r["record"] = record;
-  r["step_columns"] = std::vector<std::string>{"t", "h", "order", "drift_position", "drift_velocity", "energy"};
-  r["steps"] = table(memory.steps_, 6);
+  const std::vector<std::string> step_columns = memory.step_columns();
+  r["step_columns"] = step_columns;
+  r["steps"] = table(memory.steps_, step_columns.size());
+  const MultiplierErrorControl control =
+      multiplier_error_control(scene.solver.integrator, problem.suppress_algebraic_error_test(), problem.scheme().name);
+  r["multipliers_error_controlled"] = control.controlled;  // as summary.json names them
+  r["multipliers_error_note"] = control.note;
   r["grid_columns"] = grid_columns;
   r["grid_units"] = units;
   r["grid"] = table(memory.grid_, grid_columns.size());

@@ -2,6 +2,7 @@
 
 #include "solve_multibody.hpp"
 #include "counters_json.hpp"
+#include "summary_common.hpp"
 
 #include <fmt/format.h>
 
@@ -78,7 +79,7 @@ nlohmann::json configuration_json(const Scene& s, const std::vector<SchemeParame
 // The last observation as the columns of trajectory.csv (record/columns.hpp).
 nlohmann::json final_row_json(const Observation& o, const std::vector<std::string>& multiplier_names) {
   nlohmann::json j = nlohmann::json::object();
-  const columns::Sample sample{o.t, 0.0, 0, &o, {}};
+  const columns::Sample sample{o.t, 0.0, 0, &o, {}, {}};
   for (const columns::Column& c : columns::all()) {
     if (!(c.files & columns::kTrajectory)) continue;
     if (c.kind == columns::Kind::Real) j[std::string(c.name)] = c.value(sample);
@@ -103,7 +104,6 @@ nlohmann::json accuracy_check_json(const SolveOutcome& o) {
 }
 
 nlohmann::json summary(const Scene& scene, const SolveOutcome& o) {
-  const IdaCounters& c = o.run.counters;
   const Observation& f = o.extremes.last;
   nlohmann::json multipliers = nlohmann::json::object();
   for (std::size_t i = 0; i < o.multiplier_names.size(); ++i) {
@@ -115,22 +115,10 @@ nlohmann::json summary(const Scene& scene, const SolveOutcome& o) {
   nlohmann::json switches = nlohmann::json::array();
   for (const auto& s : o.run.switches) switches.push_back({{"t", s.t}, {"from", s.from}, {"to", s.to}, {"margin", s.margin}});
 
-  nlohmann::json j = {
-      {"units", "SI: s, rad, rad/s, J, kg m^2/s; quaternions scalar first, R_WB body to space"},
+  // The keys both summaries share (summary_common.hpp), then a single body's own.
+  nlohmann::json j = common_summary_json(scene, o);
+  j.update({
       {"configuration", configuration_json(scene, o.scheme_parameters)},
-      {"representation", o.representation},
-      {"scheme", o.scheme},
-      {"note", o.note},
-      {"versions", {{"rigidae", RIGIDAE_VERSION}, {"sundials", sundials_version()},
-                    {"eigen", fmt::format("{}.{}.{}", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION)}}},
-      {"status", to_string(o.run.status)},
-      {"message", o.run.message},
-      {"t_reached", o.run.t_reached},
-      {"linear_solver", o.run.linear_solver.empty() ? "none" : o.run.linear_solver},  // the one Newton used
-      {"wall_time_s", o.wall_seconds},
-      {"initial_residual_max_abs", o.run.initial_residual},
-      {"counters", counters_json(c)},
-      {"chart_switch_count", o.run.switch_count},
       {"chart_switches", switches},  // the first kSwitchesKept; events.csv has them all
       {"maxima",
        {{"drift_position", o.extremes.max_drift_position},
@@ -139,7 +127,6 @@ nlohmann::json summary(const Scene& scene, const SolveOutcome& o) {
         {"abs_vertical_momentum_rel_error", o.extremes.max_abs_vertical_momentum_error}}},
       {"multipliers", multipliers},
       {"accuracy_check", accuracy_check_json(o)},
-      {"warnings", warnings_json(o.warnings)},
       {"final",
        {{"t", f.t},
         {"q_WB", vec_json(f.q_WB)},
@@ -152,7 +139,7 @@ nlohmann::json summary(const Scene& scene, const SolveOutcome& o) {
         {"vertical_momentum_rel_error", f.vertical_momentum_error}}},
       {"final_row", final_row_json(f, o.multiplier_names)},
       {"columns_units", columns::units_line().substr(2)},
-  };
+  });
   return j;
 }
 
@@ -198,6 +185,8 @@ SolveOutcome solve_with(const Scene& scene, const std::function<RunSink(const Ch
   o.note = dae->scheme().note(dae->representation());
   o.multiplier_names = dae->multiplier_names();
   o.scheme_parameters = dae->scheme().parameters();
+  o.multipliers_error =
+      multiplier_error_control(scene.solver.integrator, dae->scheme().suppress_multiplier_error_test(), o.scheme);
 
   IntegratorRun run(*dae, scene);
   const RunSink recording = attach(run.chart_state());

@@ -3,10 +3,12 @@
 // (app/multibody_accuracy_check.hpp), and summary.json.
 #include "solve_multibody.hpp"
 #include "counters_json.hpp"
+#include "summary_common.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -22,6 +24,27 @@ namespace rigidae {
 namespace {
 
 nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+
+// Which bodies and joints have columns in the step file and trajectory.csv
+// (model/recorded_parts.hpp), and why when the default left them out.
+nlohmann::json recorded_parts_json(const multibody::MultibodyProblem& p, const MultibodyRecorder& r) {
+  const auto names = [&](const RecordedParts& parts) {
+    nlohmann::json b = nlohmann::json::array(), j = nlohmann::json::array();
+    for (int i : parts.bodies) b.push_back(p.bodies()[i].name);
+    for (int i : parts.joints) j.push_back(p.spec().joints[i].name);
+    return nlohmann::json{{"bodies", b}, {"joints", j}};
+  };
+  const RecordedParts& s = r.step_parts();
+  nlohmann::json out = {{"steps", names(s)},
+                        {"trajectory", names(r.grid_parts())},
+                        {"chosen_by_scene", {{"bodies", !s.bodies_by_default}, {"joints", !s.joints_by_default}}}};
+  if (s.cut_by_size)
+    out["note"] = fmt::format(
+        "{} joints (more than {}): the step file holds only the global columns for the parts the scene does not "
+        "name; choose them with [output] bodies = [...] and joints = [...] (or \"all\")",
+        p.spec().joints.size(), kAllPartsUpToJoints);
+  return out;
+}
 
 }  // namespace
 
@@ -45,7 +68,9 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
   o.scheme = problem.scheme().name;
   o.note = fmt::format("{} bodies, {} joints, {} unknowns", problem.bodies().size(), scene.multibody->joints.size(),
                        problem.size());
-  MultibodyRecorder recorder(problem, out_dir, scene.output, scene.time);
+  o.multipliers_error =
+      multiplier_error_control(scene.solver.integrator, problem.suppress_algebraic_error_test(), o.scheme);
+  MultibodyRecorder recorder(problem, out_dir, scene.output, scene.time, scene.solver.integrator);
   MultibodyInvariantMonitor monitor(problem, scene, &recorder);
   const auto t0 = std::chrono::steady_clock::now();
   try {
@@ -63,11 +88,9 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
   o.drifts = monitor.drifts();
   o.warnings = monitor.warnings();
 
-  const IdaCounters& c = o.run.counters;
-  nlohmann::json j = {
-      {"scene", scene.name},
-      {"source", scene.source},
-      {"schema_version", 2},
+  // The keys both summaries share (summary_common.hpp), then a mechanism's own.
+  nlohmann::json j = common_summary_json(scene, o);
+  j.update({
       // The run's settings under the keys single-body summaries use (tools/plot_compare.py reads them).
       {"configuration",
        {{"name", scene.name},
@@ -78,25 +101,12 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
           {"scheme", o.scheme}}},
         {"solver", {{"rtol", scene.solver.rtol}, {"atol", scene.solver.atol}, {"integrator", scene.solver.integrator}}},
         {"time", {{"start", scene.time.start}, {"end", scene.time.end}, {"output_step", scene.time.output_step}}}}},
-      {"coordinates", to_string(scene.formulation.coordinates)},
-      {"equations", to_string(scene.formulation.equations)},
-      {"scheme", o.scheme},
       {"bodies", problem.bodies().size()},
       {"joints", scene.multibody->joints.size()},
       {"unknowns", problem.size()},
       {"nonzeros", problem.sparsity().nnz()},
-      {"factor_nonzeros", o.run.factor_nonzeros},
-      {"status", to_string(o.run.status)},
-      {"message", o.run.message},
-      {"t_reached", o.run.t_reached},
-      {"wall_seconds", o.wall_seconds},
-      {"rtol", scene.solver.rtol},
-      {"atol", scene.solver.atol},
-      {"jacobian", scene.solver.jacobian},
-      {"linear_solver", o.run.linear_solver},  // the one used ("auto" resolved by size)
-      {"linear_solver_setting", scene.solver.linear_solver},
       {"start_warnings", problem.warnings()},
-      {"warnings", warnings_json(o.warnings)},
+      {"recorded_parts", recorded_parts_json(problem, recorder)},
       {"accuracy_check",
        {{"tolerance", o.drifts.tolerance},
         {"energy", number_or_null(o.drifts.energy)},
@@ -104,13 +114,18 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
         {"constraint_velocity", number_or_null(o.drifts.constraint_velocity)},
         {"steps", monitor.steps()},
         {"definitions", "maxima over the steps; see include/rigidae/app/multibody_accuracy_check.hpp"}}},
-      {"counters", counters_json(c)},
       {"maxima",
        {{"drift_position", o.extremes.max_drift_position},
         {"drift_velocity", o.extremes.max_drift_velocity},
         {"abs_energy_rel_error", o.extremes.max_abs_energy_error}}},
-      {"final", {{"energy", recorder.last_energy()}, {"initial_energy", recorder.initial_energy()}}},
-  };
+      {"final",
+       {{"t", o.run.t_reached},
+        {"energy", recorder.last_energy()},
+        {"energy_rel_error", (recorder.last_energy() - recorder.initial_energy()) /
+                                 std::max(std::abs(recorder.initial_energy()), 1.0)},
+        {"initial_energy", recorder.initial_energy()}}},
+      {"columns_units", recorder.step_units()},
+  });
   o.start_warnings = problem.warnings();  // printed by the command (solve: each run; compare: once)
   write_file_atomically(out_dir / "summary.json", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   return o;

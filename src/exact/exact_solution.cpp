@@ -13,6 +13,16 @@
 namespace rigidae::exact {
 
 std::unique_ptr<ExactSolution> make_exact_solution(const Scene& scene, std::string* why) {
+  // A mechanism's scene carries no single body of its own: its one-body
+  // fields are defaults (an identity rotation at rest), not its motion.
+  if (scene.multibody) {
+    if (why != nullptr)
+      *why = fmt::format("a scene with bodies and joints (schema_version = 2, {} bodies, {} joints) has no closed "
+                         "form here (closed forms: a torque-free body, a Lagrange top); compare it against a "
+                         "reference run (reference = \"tight\") instead",
+                         scene.multibody->bodies.size(), scene.multibody->joints.size());
+    return nullptr;
+  }
   const RigidBodyModel model = make_rigid_body_model(scene);
   const double t0 = scene.time.start;
   const double span = scene.time.end - scene.time.start;

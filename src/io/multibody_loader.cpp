@@ -61,6 +61,8 @@ constexpr std::array<std::string_view, 15> kJointKeys{
 constexpr std::array<std::string_view, 8> kSpringKeys{"name",    "bodies",    "frame",   "point_a",
                                                       "point_b", "stiffness", "damping", "rest_length"};
 constexpr std::array<std::string_view, 4> kLoadKeys{"body", "force", "torque", "frame"};
+// [output]'s keys of schema 2 only: which bodies and joints have columns.
+constexpr std::array<std::string_view, 2> kOutputPartKeys{"bodies", "joints"};
 
 // Schema 2's own tables; the shared ones are added from scene_loader.cpp.
 const std::array<SectionKeys, 7> kOwnSections{{
@@ -244,7 +246,8 @@ class MultibodyReader {
     read_loads(spec);
 
     read_time(r_, root_, scene);
-    read_output(r_, root_, scene);
+    read_output(r_, root_, scene, kOutputPartKeys);
+    read_recorded_parts(spec);
     read_formulation(r_, root_, scene);
     read_solver(r_, root_, scene);
     check_settings_together(r_, root_, scene);
@@ -261,6 +264,57 @@ class MultibodyReader {
   std::vector<std::string> body_names_;
   std::map<std::string, int, std::less<>> body_index_;
   std::vector<const toml::table*> joint_tables_;
+
+  // [output] bodies / joints: "all", "none" or an array of names of the
+  // scene's bodies / joints (model/recorded_parts.hpp: unset is the default).
+  void read_recorded_parts(MultibodySpec& spec) const {
+    const toml::table* out = root_.get_as<toml::table>("output");
+    if (!out) return;
+    std::vector<std::string_view> bodies, joints;
+    for (const BodySpec& b : spec.bodies) bodies.push_back(b.name);
+    for (const JointSpec& j : spec.joints) joints.push_back(j.name);
+    if (const toml::node* n = out->get("bodies")) spec.output_bodies = part_list(*n, "output.bodies", "body", bodies);
+    if (const toml::node* n = out->get("joints")) spec.output_joints = part_list(*n, "output.joints", "joint", joints);
+  }
+
+  std::vector<int> part_list(const toml::node& n, const std::string& key, std::string_view kind,
+                             const std::vector<std::string_view>& names) const {
+    std::vector<int> chosen;
+    const auto all = [&] {
+      for (std::size_t i = 0; i < names.size(); ++i) chosen.push_back(static_cast<int>(i));
+    };
+    if (n.is_string()) {
+      const std::string s = r_.string(n, key);
+      if (s == "all") all();
+      else if (s != "none")
+        r_.fail(n, fmt::format("'{}' = \"{}\": give \"all\", \"none\" or an array of {} names, e.g. [\"{}\"]", key,
+                               printable(s), kind, names.empty() ? std::string_view("A") : names.front()));
+      return chosen;
+    }
+    const toml::array* a = n.as_array();
+    if (!a)
+      r_.fail(n, fmt::format("'{}' must be \"all\", \"none\" or an array of {} names, not {}", key, kind,
+                             type_name(n)));
+    for (const toml::node& e : *a) {
+      const std::string name = r_.string(e, key + "[]");
+      const auto it = std::find(names.begin(), names.end(), name);
+      if (it != names.end()) {
+        chosen.push_back(static_cast<int>(it - names.begin()));
+        continue;
+      }
+      std::string msg = fmt::format("'{}' names \"{}\", which is not a {} of this scene", key, printable(name), kind);
+      if (auto best = closest(name, names)) msg += fmt::format("; did you mean \"{}\"?", *best);
+      constexpr std::size_t kShown = 8;
+      const std::vector<std::string_view> shown(names.begin(), names.begin() + std::min(kShown, names.size()));
+      msg += fmt::format(" ({}s: {}{})", kind, quoted_list(shown),
+                         names.size() > kShown ? fmt::format(" and {} more", names.size() - kShown) : "");
+      r_.fail(e, msg);
+    }
+    // Recorded in the scene's order, each once.
+    std::sort(chosen.begin(), chosen.end());
+    chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
+    return chosen;
+  }
 
   double open_unit_interval(const toml::node& n, const std::string& name, std::string_view what) const {
     const double v = r_.number(n, name);

@@ -486,10 +486,13 @@ void read_time(const TomlReader& r, const toml::table& root, Scene& scene) {
 
 // [output]: record and step_format from the table of settings; `times`, an
 // array, here: each time a number, strictly increasing, inside the time span.
-void read_output(const TomlReader& r, const toml::table& root, Scene& scene) {
+void read_output(const TomlReader& r, const toml::table& root, Scene& scene,
+                 std::span<const std::string_view> more_keys = {}) {
   const toml::table* t = r.optional_table(root, "", "output");
   if (!t) return;
-  r.check_keys(*t, "output", schema().settings.output, schema().sections);
+  std::vector<std::string_view> keys = schema().settings.output;
+  keys.insert(keys.end(), more_keys.begin(), more_keys.end());
+  r.check_keys(*t, "output", keys, schema().sections);
   read_settings(r, *t, "output", scene);
   const toml::node* n = t->get("times");
   if (!n) return;
@@ -657,7 +660,10 @@ void read_scene_name(const TomlReader& r, const toml::table& root, Scene& scene)
 }
 void read_gravity(const TomlReader& r, const toml::table& root, Scene& scene) { io::read_gravity(r, root, scene); }
 void read_time(const TomlReader& r, const toml::table& root, Scene& scene) { io::read_time(r, root, scene); }
-void read_output(const TomlReader& r, const toml::table& root, Scene& scene) { io::read_output(r, root, scene); }
+void read_output(const TomlReader& r, const toml::table& root, Scene& scene,
+                 std::span<const std::string_view> more_keys) {
+  io::read_output(r, root, scene, more_keys);
+}
 void read_formulation(const TomlReader& r, const toml::table& root, Scene& scene) {
   io::read_formulation(r, root, scene);
 }

@@ -26,7 +26,9 @@ void read_scene_name(const TomlReader& r, const toml::table& root, Scene& scene)
 void read_gravity(const TomlReader& r, const toml::table& root, Scene& scene);
 void read_time(const TomlReader& r, const toml::table& root, Scene& scene);
 // [output] (optional): record mode, step file format, output times. After read_time.
-void read_output(const TomlReader& r, const toml::table& root, Scene& scene);
+// `more_keys`: keys of [output] the caller reads itself (schema 2: bodies, joints).
+void read_output(const TomlReader& r, const toml::table& root, Scene& scene,
+                 std::span<const std::string_view> more_keys = {});
 void read_formulation(const TomlReader& r, const toml::table& root, Scene& scene);
 void read_solver(const TomlReader& r, const toml::table& root, Scene& scene);
 // The settings at the top level (`reference`), and the checks between

@@ -158,42 +158,67 @@ Vec3 MultibodyProblem::angular_momentum(const double* y) const {
 
 namespace rigidae::multibody {
 
+namespace {
+
+RecordedParts every_part(std::size_t bodies, std::size_t joints) {
+  RecordedParts p;
+  for (std::size_t i = 0; i < bodies; ++i) p.bodies.push_back(static_cast<int>(i));
+  for (std::size_t j = 0; j < joints; ++j) p.joints.push_back(static_cast<int>(j));
+  return p;
+}
+
+constexpr const char* kBodyColumns[] = {"qw", "qx", "qy", "qz", "wx", "wy", "wz", "x", "y", "z", "vx", "vy", "vz"};
+constexpr const char* kBodyUnits[] = {"1", "1", "1", "1", "rad/s", "rad/s", "rad/s", "m", "m", "m", "m/s", "m/s", "m/s"};
+constexpr const char* kJointColumns[] = {"force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z", "phi", "phi_dot"};
+constexpr const char* kJointUnits[] = {"N", "N", "N", "N m", "N m", "N m", "m|1", "m/s|1/s"};
+constexpr const char* kGlobalColumns[] = {"energy", "p_x", "p_y", "p_z", "L_x", "L_y", "L_z"};
+constexpr const char* kGlobalUnits[] = {"J", "N s", "N s", "N s", "N m s", "N m s", "N m s"};
+
+}  // namespace
+
 std::vector<std::string> MultibodyProblem::output_names() const {
-  std::vector<std::string> n;
-  for (const BodyModel& b : bodies_)
-    for (const char* c : {"qw", "qx", "qy", "qz", "wx", "wy", "wz", "x", "y", "z", "vx", "vy", "vz"})
-      n.push_back(b.name + "." + c);
-  for (const JointSpec& j : spec_.joints)
-    for (const char* c : {"force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z", "phi", "phi_dot"})
-      n.push_back(j.name + "." + c);
-  for (const char* c : {"energy", "p_x", "p_y", "p_z", "L_x", "L_y", "L_z"}) n.push_back(c);
-  return n;
+  return output_names(every_part(bodies_.size(), spec_.joints.size()));
 }
 
 std::vector<std::string> MultibodyProblem::output_units() const {
-  std::vector<std::string> u;
-  for (std::size_t i = 0; i < bodies_.size(); ++i)
-    for (const char* c : {"1", "1", "1", "1", "rad/s", "rad/s", "rad/s", "m", "m", "m", "m/s", "m/s", "m/s"})
-      u.push_back(c);
-  for (std::size_t j = 0; j < spec_.joints.size(); ++j)
-    for (const char* c : {"N", "N", "N", "N m", "N m", "N m", "m|1", "m/s|1/s"}) u.push_back(c);
-  for (const char* c : {"J", "N s", "N s", "N s", "N m s", "N m s", "N m s"}) u.push_back(c);
-  return u;
+  return output_units(every_part(bodies_.size(), spec_.joints.size()));
 }
 
 void MultibodyProblem::output_row(const double* y, double* out) {
+  output_row(y, every_part(bodies_.size(), spec_.joints.size()), out);
+}
+
+std::vector<std::string> MultibodyProblem::output_names(const RecordedParts& parts) const {
+  std::vector<std::string> n;
+  for (int i : parts.bodies)
+    for (const char* c : kBodyColumns) n.push_back(bodies_[i].name + "." + c);
+  for (int j : parts.joints)
+    for (const char* c : kJointColumns) n.push_back(spec_.joints[j].name + "." + c);
+  for (const char* c : kGlobalColumns) n.push_back(c);
+  return n;
+}
+
+std::vector<std::string> MultibodyProblem::output_units(const RecordedParts& parts) const {
+  std::vector<std::string> u;
+  for (std::size_t i = 0; i < parts.bodies.size(); ++i) u.insert(u.end(), std::begin(kBodyUnits), std::end(kBodyUnits));
+  for (std::size_t j = 0; j < parts.joints.size(); ++j) u.insert(u.end(), std::begin(kJointUnits), std::end(kJointUnits));
+  u.insert(u.end(), std::begin(kGlobalUnits), std::end(kGlobalUnits));
+  return u;
+}
+
+void MultibodyProblem::output_row(const double* y, const RecordedParts& parts, double* out) {
   // One evaluation of every body serves all joints (O(bodies + joints)).
   evaluate(0.0, y, 2);
   evaluated_y_ = y;
   int k = 0;
-  for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) {
+  for (int i : parts.bodies) {
     const Vec4 q = body_orientation(i, y);
     const Vec3 w = body_omega_space(i, y), x = body_position(i, y), v = body_velocity(i, y);
     for (int c = 0; c < 4; ++c) out[k++] = q(c);
     for (const Vec3* a : {&w, &x, &v})
       for (int c = 0; c < 3; ++c) out[k++] = (*a)(c);
   }
-  for (int j = 0; j < static_cast<int>(spec_.joints.size()); ++j) {
+  for (int j : parts.joints) {
     const JointReaction r = joint_reaction(j, y);
     const auto [phi, phidot] = joint_residuals(j, y);
     for (const Vec3* a : {&r.force, &r.torque})
@@ -205,6 +230,78 @@ void MultibodyProblem::output_row(const double* y, double* out) {
   const Vec3 p = linear_momentum(y), L = angular_momentum(y);
   for (const Vec3* a : {&p, &L})
     for (int c = 0; c < 3; ++c) out[k++] = (*a)(c);
+  evaluated_y_ = nullptr;
+}
+
+// --- Per-step rows. A body's own block (internal blocks come first, in body
+// order) and a joint's block carry lambda and/or mu as the scheme's rows()
+// say; a joint without multipliers has none of these columns.
+
+namespace {
+
+// Walks the internal blocks alongside the chosen bodies (both in body order):
+// calls f(block index) for each chosen body that has one.
+template <typename F>
+void for_chosen_internal_blocks(const std::vector<ConstraintBlock>& blocks, const std::vector<int>& bodies, F f) {
+  std::size_t k = 0;
+  for (int j = 0; j < static_cast<int>(blocks.size()) && blocks[j].internal; ++j) {
+    while (k < bodies.size() && bodies[k] < blocks[j].body) ++k;
+    if (k < bodies.size() && bodies[k] == blocks[j].body) f(j);
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> MultibodyProblem::step_part_names(const RecordedParts& parts) const {
+  std::vector<std::string> n;
+  const auto multipliers = [&](const ConstraintBlock& b, const std::string& owner) {
+    if (b.lambda_group >= 0)
+      for (const std::string& r : b.row_names) n.push_back(owner + ".lambda_" + r);
+    if (b.mu_group >= 0)
+      for (const std::string& r : b.row_names) n.push_back(owner + ".mu_" + r);
+  };
+  for_chosen_internal_blocks(blocks_, parts.bodies, [&](int j) { multipliers(blocks_[j], bodies_[blocks_[j].body].name); });
+  for (int joint : parts.joints) {
+    const std::string& name = spec_.joints[joint].name;
+    if (block_of_joint_[joint] >= 0) multipliers(blocks_[block_of_joint_[joint]], name);
+    for (const char* c : kJointColumns) n.push_back(name + "." + c);
+  }
+  return n;
+}
+
+std::vector<std::string> MultibodyProblem::step_part_units(const RecordedParts& parts) const {
+  std::vector<std::string> u;
+  const auto multipliers = [&](const ConstraintBlock& b, const char* lambda, const char* mu) {
+    if (b.lambda_group >= 0) u.insert(u.end(), b.row_names.size(), lambda);
+    if (b.mu_group >= 0) u.insert(u.end(), b.row_names.size(), mu);
+  };
+  for_chosen_internal_blocks(blocks_, parts.bodies, [&](int j) { multipliers(blocks_[j], "J", "1/s"); });
+  for (int joint : parts.joints) {
+    if (block_of_joint_[joint] >= 0) multipliers(blocks_[block_of_joint_[joint]], "N|N m", "m/s|1/s");
+    u.insert(u.end(), std::begin(kJointUnits), std::end(kJointUnits));
+  }
+  return u;
+}
+
+void MultibodyProblem::step_part_row(const double* y, const RecordedParts& parts, double* out) {
+  evaluate(0.0, y, 2);
+  evaluated_y_ = y;
+  int k = 0;
+  const auto multipliers = [&](const ConstraintBlock& b) {
+    for (int g : {b.lambda_group, b.mu_group})
+      if (g >= 0)
+        for (int r = 0; r < b.nr; ++r) out[k++] = y[groups_[g].offset + r];
+  };
+  for_chosen_internal_blocks(blocks_, parts.bodies, [&](int j) { multipliers(blocks_[j]); });
+  for (int joint : parts.joints) {
+    if (block_of_joint_[joint] >= 0) multipliers(blocks_[block_of_joint_[joint]]);
+    const JointReaction r = joint_reaction(joint, y);
+    const auto [phi, phidot] = joint_residuals(joint, y);
+    for (const Vec3* a : {&r.force, &r.torque})
+      for (int c = 0; c < 3; ++c) out[k++] = (*a)(c);
+    out[k++] = phi;
+    out[k++] = phidot;
+  }
   evaluated_y_ = nullptr;
 }
 

@@ -99,7 +99,7 @@ std::string header(const Table& table, File file, const std::vector<std::string>
   };
   for (const Column& c : table.columns) {
     if (!shown(c, file, with_chart)) continue;
-    if (c.kind == Kind::Multipliers)
+    if (c.kind == Kind::Multipliers || c.kind == Kind::Values)
       for (const std::string& m : multiplier_names) add(m);
     else
       add(c.name);
@@ -125,6 +125,12 @@ void append_row_as(fmt::memory_buffer& b, std::span<const Column> columns, File 
         const auto& m = s.observation->multipliers;
         for (int i = 0; i < m.size(); ++i) put<digits>(b, m(i), first && i == 0);
         if (m.size() == 0) continue;  // no column: `first` stays as it was
+        break;
+      }
+      case Kind::Values: {
+        const std::span<const double> v = s.values;
+        for (std::size_t i = 0; i < v.size(); ++i) put<digits>(b, v[i], first && i == 0);
+        if (v.empty()) continue;
         break;
       }
       case Kind::Chart:
@@ -160,6 +166,7 @@ std::vector<NpyField> npy_fields(const Table& table, File file, const std::vecto
       case Kind::Real: f.push_back({std::string(c.name), "<f8", 8}); break;
       case Kind::Integer: f.push_back({std::string(c.name), "<i8", 8}); break;
       case Kind::Multipliers:
+      case Kind::Values:
         for (const std::string& m : multiplier_names) f.push_back({m, "<f8", 8});
         break;
       case Kind::Chart: f.push_back({std::string(c.name), fmt::format("|S{}", kChartBytes), kChartBytes}); break;
@@ -187,6 +194,12 @@ void append_binary_row_of(fmt::memory_buffer& b, std::span<const Column> columns
       case Kind::Multipliers: {
         const auto& m = s.observation->multipliers;
         for (int i = 0; i < m.size(); ++i) put_binary(b, m(i));
+        break;
+      }
+      case Kind::Values: {
+        const std::size_t at = b.size(), bytes = s.values.size() * sizeof(double);
+        b.resize(at + bytes);
+        if (bytes) std::memcpy(b.data() + at, s.values.data(), bytes);
         break;
       }
       case Kind::Chart: {

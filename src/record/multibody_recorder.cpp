@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "rigidae/record/columns.hpp"
+#include "rigidae/record/error_control.hpp"
 
 namespace rigidae {
 
@@ -18,8 +19,9 @@ std::string join(const std::vector<std::string>& v, const char* sep) {
   return s;
 }
 
-std::string units_comment(const multibody::MultibodyProblem& p) {
-  const std::vector<std::string> names = p.output_names(), units = p.output_units();
+std::string units_comment(const multibody::MultibodyProblem& p, const RecordedParts& parts,
+                          const std::string& not_controlled) {
+  const std::vector<std::string> names = p.output_names(parts), units = p.output_units(parts);
   std::string s = "# units: t s";
   // One entry per kind of column (the body and joint names vary).
   std::vector<std::string> seen;
@@ -32,7 +34,26 @@ std::string units_comment(const multibody::MultibodyProblem& p) {
   }
   return s + "; q* unit quaternion of R_WB (scalar first); w* space angular velocity; JOINT.force/torque on "
              "body b (on a when b is the ground) at its joint point, space frame; phi |Phi| (m for point rows, 1 "
-             "for angular rows), phi_dot |G v|";
+             "for angular rows), phi_dot |G v|" + (parts.joints.empty() ? std::string() : not_controlled);
+}
+
+// The units of the step file's per-part columns (after the table's own).
+std::string step_part_units(const RecordedParts& parts, bool any_column, const std::string& not_controlled) {
+  if (!any_column) return "";
+  std::string s;
+  if (!parts.bodies.empty())
+    s += "; BODY.lambda_* J, BODY.mu_* 1/s (multipliers of a body's own constraints, e.g. the quaternion norm)";
+  if (!parts.joints.empty())
+    s += "; JOINT.lambda_* N (point rows) or N m (angular rows), JOINT.mu_* m/s or 1/s (multipliers of the joint's "
+         "rows, named by row); JOINT.force_* N, JOINT.torque_* N m the reaction on body b (on a when b is the "
+         "ground) at its joint point, space frame; JOINT.phi |Phi| m or 1, JOINT.phi_dot |G v| m/s or 1/s";
+  return s + not_controlled;
+}
+
+std::string not_controlled_note(const multibody::MultibodyProblem& p, const std::string& integrator) {
+  const MultiplierErrorControl c =
+      multiplier_error_control(integrator, p.suppress_algebraic_error_test(), p.scheme().name);
+  return c.controlled ? std::string() : "; multipliers and reactions NOT error-controlled: " + c.note;
 }
 
 // steps.csv / steps.npy: a row per accepted step. Drift is the largest over
@@ -52,6 +73,8 @@ const columns::Column kStepColumns[] = {
      nullptr},
     {"energy_rel_error", "energy_rel_error (H - H0)/max(|H0|, 1 J)", columns::kSteps, columns::Kind::Real,
      [](const columns::Sample& s) { return obs(s).energy_error; }, nullptr},
+    // The recorded parts' multipliers, reactions and drift (MultibodyProblem::step_part_names).
+    {"parts", "", columns::kSteps, columns::Kind::Values, nullptr, nullptr},
 };
 
 // Numbers in fmt's layout, as in trajectory.csv (and as multibody steps.csv
@@ -61,18 +84,25 @@ const columns::Table kStepTable{kStepColumns, columns::Digits::Fmt};
 }  // namespace
 
 MultibodyRecorder::MultibodyRecorder(multibody::MultibodyProblem& problem, const std::filesystem::path& out_dir,
-                                     const OutputSettings& output, const TimeGrid& time)
+                                     const OutputSettings& output, const TimeGrid& time,
+                                     const std::string& integrator)
     : problem_(problem),
+      step_parts_(recorded_parts(problem.spec())),
+      grid_parts_(recorded_parts(problem.spec(), false)),
+      step_part_names_(problem.step_part_names(step_parts_)),
+      step_units_more_(step_part_units(step_parts_, !step_part_names_.empty(), not_controlled_note(problem, integrator))),
+      step_values_(step_part_names_.size()),
       events_(out_dir / "events.csv",
               "# units: t s; margin |det B| of the chart left (chart_switch), 1; drift_position and "
               "drift_velocity just before a projection",
               "t,event,body,from,to,margin,drift_position,drift_velocity"),
-      steps_(kStepTable, {}, false, output, out_dir),
-      trajectory_(open_csv_if(output.record != RecordMode::None, out_dir / "trajectory.csv", units_comment(problem),
-                              "t," + join(problem.output_names(), ","))) {
+      steps_(kStepTable, step_part_names_, false, output, out_dir, step_units_more_),
+      trajectory_(open_csv_if(output.record != RecordMode::None, out_dir / "trajectory.csv",
+                              units_comment(problem, grid_parts_, not_controlled_note(problem, integrator)),
+                              "t," + join(problem.output_names(grid_parts_), ","))) {
   start_is_output_ = time.output_times.empty() || time.output_times.front() == time.start;
-  row_.resize(problem.output_names().size());
-  const std::vector<std::string> names = problem.output_names();
+  const std::vector<std::string> names = problem.output_names(grid_parts_);
+  row_.resize(names.size());
   energy_column_ = static_cast<int>(std::find(names.begin(), names.end(), "energy") - names.begin());
 }
 
@@ -91,7 +121,8 @@ void MultibodyRecorder::on_step(double t, double h, int order, const Eigen::Vect
     o.drift = {pos, vel};
     o.energy = H;
     o.energy_error = err;
-    steps_.write({t, h, order, &o, {}});
+    if (!step_values_.empty()) problem_.step_part_row(y.data(), step_parts_, step_values_.data());
+    steps_.write({t, h, order, &o, {}, step_values_});
   }
 }
 
@@ -99,7 +130,7 @@ void MultibodyRecorder::on_output(double t, const Eigen::VectorXd& y) {
   const bool row = trajectory_ && (seen_start_ || start_is_output_);
   seen_start_ = true;
   if (!row && have_H0_) return;
-  problem_.output_row(y.data(), row_.data());
+  problem_.output_row(y.data(), grid_parts_, row_.data());
   if (!have_H0_) H0_ = row_[energy_column_], have_H0_ = true;
   if (!row) return;
   fmt::memory_buffer line;
@@ -107,6 +138,18 @@ void MultibodyRecorder::on_output(double t, const Eigen::VectorXd& y) {
   for (double v : row_) fmt::format_to(std::back_inserter(line), ",{}", v);
   line.push_back('\n');
   trajectory_->file().write(line.data(), line.size());
+}
+
+std::string MultibodyRecorder::step_units() const {
+  return columns::units_line(kStepTable).substr(2) + step_units_more_;
+}
+
+std::vector<std::string> MultibodyRecorder::step_columns() const {
+  std::vector<std::string> c;
+  for (const columns::Column& col : kStepColumns)
+    if (col.kind != columns::Kind::Values) c.emplace_back(col.name);
+  c.insert(c.end(), step_part_names_.begin(), step_part_names_.end());
+  return c;
 }
 
 void MultibodyRecorder::on_event(const EventNote& n) {

@@ -8,6 +8,7 @@
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/record/columns.hpp"
+#include "rigidae/record/error_control.hpp"
 
 namespace rigidae {
 
@@ -41,11 +42,11 @@ std::unique_ptr<CsvStream> open_csv_if(bool wanted, const std::filesystem::path&
 }
 
 StepFile::StepFile(const columns::Table& table, const std::vector<std::string>& multiplier_names, bool with_chart,
-                   const OutputSettings& output, const std::filesystem::path& out_dir)
+                   const OutputSettings& output, const std::filesystem::path& out_dir, const std::string& units_more)
     : table_(table), with_chart_(with_chart) {
   const bool steps = output.record == RecordMode::Steps;
   csv_ = open_csv_if(steps && output.step_format == StepFormat::Csv, out_dir / "steps.csv",
-                     columns::units_line(table), columns::header(table, columns::kSteps, multiplier_names, with_chart));
+                     columns::units_line(table) + units_more, columns::header(table, columns::kSteps, multiplier_names, with_chart));
   const std::filesystem::path npy = out_dir / "steps.npy";
   if (steps && output.step_format == StepFormat::Npy)
     npy_ = std::make_unique<NpyFile>(npy, columns::npy_fields(table, columns::kSteps, multiplier_names, with_chart));
@@ -53,15 +54,29 @@ StepFile::StepFile(const columns::Table& table, const std::vector<std::string>& 
     remove_stale(npy);
 }
 
+namespace {
+
+// The units line's addition when the run has multipliers and they are not
+// error-controlled (record/error_control.hpp).
+std::string multipliers_note(const ChartState& problem, const Scene& scene) {
+  if (problem.system().multiplier_names().empty()) return "";
+  const MultiplierErrorControl c = multiplier_error_control(
+      scene.solver.integrator, problem.system().scheme().suppress_multiplier_error_test(), problem.system().scheme().name());
+  return c.controlled ? std::string() : "; multipliers NOT error-controlled: " + c.note;
+}
+
+}  // namespace
+
 RunRecorder::RunRecorder(const ChartState& problem, const Scene& scene, const std::filesystem::path& out_dir)
     : problem_(problem),
       multiplier_names_(problem.system().multiplier_names()),
       with_chart_(problem.representation().has_charts()),
       step_observer_(problem.system(), scene),
       grid_observer_(problem.system(), scene),
-      steps_(columns::single_body(), multiplier_names_, with_chart_, scene.output, out_dir),
+      steps_(columns::single_body(), multiplier_names_, with_chart_, scene.output, out_dir,
+             multipliers_note(problem, scene)),
       trajectory_(open_csv_if(scene.output.record != RecordMode::None, out_dir / "trajectory.csv",
-                              columns::units_line(),
+                              columns::units_line() + multipliers_note(problem, scene),
                               columns::header(columns::kTrajectory, multiplier_names_, with_chart_))),
       events_(out_dir / "events.csv",
               "# units: t s; margin |det B| of the chart left (chart_switch), 1; drift_position |Phi| 1 and "
@@ -84,7 +99,7 @@ void RunRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& 
   const Observation o = step_observer_.observe(t, y, problem_.chart());
   if (steps_) {
     const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
-    steps_.write({t, h, order, &o, chart});
+    steps_.write({t, h, order, &o, chart, {}});
   }
   extremes_.add_step(o);
 }
@@ -96,7 +111,7 @@ void RunRecorder::on_output(double t, const Eigen::VectorXd& y) {
   const Observation o = grid_observer_.observe(t, y, problem_.chart());
   if (row) {
     const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
-    write_row(trajectory_->file(), columns::kTrajectory, {t, 0.0, 0, &o, chart});
+    write_row(trajectory_->file(), columns::kTrajectory, {t, 0.0, 0, &o, chart, {}});
   }
   if (extremes_.steps_recorded == 0) extremes_.last = o;
 }

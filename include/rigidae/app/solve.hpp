@@ -10,6 +10,7 @@
 #include "rigidae/dae/chart_state.hpp"
 #include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/model/scene.hpp"
+#include "rigidae/record/error_control.hpp"
 #include "rigidae/record/recorder.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/solver/ida_driver.hpp"
@@ -27,6 +28,7 @@ struct SolveOutcome {
   std::vector<AccuracyWarning> warnings;  // those past their limits
   std::vector<std::string> start_warnings;  // multibody: the start's notes (projected misses, unmodelled parts)
   std::vector<SchemeParameter> scheme_parameters;  // as the scheme used them
+  MultiplierErrorControl multipliers_error;  // record/error_control.hpp
   bool output_lost = false;               // a record could not be written (run.message says which)
 };
 

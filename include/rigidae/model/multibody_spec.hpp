@@ -99,6 +99,10 @@ struct MultibodySpec {
   // Largest position-level joint miss at the start that is projected (with a
   // warning) rather than refused; larger misses are an error naming the joint.
   double start_tolerance = 1e-6;  // m (and rad for angular rows)
+  // [output] bodies / joints: the parts whose columns are recorded (indices
+  // into bodies / joints, in the scene's order); unset: the default
+  // (model/recorded_parts.hpp).
+  std::optional<std::vector<int>> output_bodies, output_joints;
 };
 
 }  // namespace rigidae

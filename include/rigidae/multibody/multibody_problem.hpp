@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "rigidae/coords/representation.hpp"
+#include "rigidae/model/recorded_parts.hpp"
 #include "rigidae/model/scene.hpp"
 #include "rigidae/multibody/block_scheme.hpp"
 #include "rigidae/multibody/constraint_rows.hpp"
@@ -147,6 +148,20 @@ class MultibodyProblem final : public DaeProblem {
   std::vector<std::string> output_names() const;
   std::vector<std::string> output_units() const;
   void output_row(const double* y, double* out);
+  // The same row for the chosen parts only (trajectory.csv under [output]
+  // bodies / joints): their body and joint columns, then the global ones.
+  std::vector<std::string> output_names(const RecordedParts& parts) const;
+  std::vector<std::string> output_units(const RecordedParts& parts) const;
+  void output_row(const double* y, const RecordedParts& parts, double* out);
+  // A step row's per-part columns (reporting.cpp), after the global ones: per
+  // chosen body with constraints of its own BODY.lambda_<row> / BODY.mu_<row>
+  // (its multipliers), per chosen joint JOINT.lambda_<row> / JOINT.mu_<row>,
+  // JOINT.force_x..z, JOINT.torque_x..z (as output_row) and JOINT.phi,
+  // JOINT.phi_dot. `parts` lists bodies and joints in the scene's order.
+  std::vector<std::string> step_part_names(const RecordedParts& parts) const;
+  std::vector<std::string> step_part_units(const RecordedParts& parts) const;
+  // Fills out[0 .. step_part_names(parts).size()); allocates nothing.
+  void step_part_row(const double* y, const RecordedParts& parts, double* out);
   // Position- and velocity-level drift over all blocks (max norms).
   std::pair<double, double> drift(double t, const double* y);
   // Projects y onto Phi = 0 (Gauss-Newton, least change in the mass metric)

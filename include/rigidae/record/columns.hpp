@@ -28,6 +28,7 @@ struct Sample {
   int order = 0;        // its BDF order (steps.csv)
   const Observation* observation = nullptr;
   std::string_view chart;  // the current Euler-angle chart ("" without charts)
+  std::span<const double> values;  // a Values column's numbers (a mechanism's per-part columns)
 };
 
 enum class Kind {
@@ -35,6 +36,7 @@ enum class Kind {
   Integer,      // one whole number, `integer`
   Multipliers,  // one column per multiplier, named by the DAE ("lambda_*", "mu_*")
   Chart,        // the Euler-angle chart's name; only for representations with charts
+  Values,       // one column per entry of Sample::values, named by the caller (as Multipliers)
 };
 
 struct Column {
@@ -62,6 +64,9 @@ struct Table {
 std::span<const Column> all();
 // The single-body table (all(), written in to_chars' layout).
 const Table& single_body();
+
+// `multiplier_names` below names the columns of the table's one column of
+// kind Multipliers or Values (a table has at most one of the two).
 
 // The first line of the table's files: "# units: t s; h s; ...".
 std::string units_line(const Table& table);

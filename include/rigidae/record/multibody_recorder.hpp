@@ -2,11 +2,15 @@
 // Streams a multibody run to disk: trajectory.csv on the output grid (one
 // column per quantity, named BODY.qw, JOINT.force_x, ...; see
 // MultibodyProblem::output_names), steps.csv per accepted step (step size,
-// order, constraint drift, energy error; or steps.npy, the same rows in
-// NumPy's format) and events.csv (chart switches per body, projections); the
-// output settings say which (record/recorder.hpp).
+// order, constraint drift, energy error, then per recorded part its
+// multipliers, reactions and drift: MultibodyProblem::step_part_names; or
+// steps.npy, the same rows in NumPy's format) and events.csv (chart switches
+// per body, projections); the output settings say which
+// (record/recorder.hpp), the scene's [output] bodies / joints which parts
+// (model/recorded_parts.hpp).
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "rigidae/multibody/multibody_problem.hpp"
@@ -21,7 +25,8 @@ class MultibodyRecorder final : public StepSink {
   // `time`: the run's grid (the start is reported first, always, and is a row
   // of trajectory.csv only when it is an output time).
   MultibodyRecorder(multibody::MultibodyProblem& problem, const std::filesystem::path& out_dir,
-                    const OutputSettings& output = {}, const TimeGrid& time = {});
+                    const OutputSettings& output = {}, const TimeGrid& time = {},
+                    const std::string& integrator = "ida");
   void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
   void on_output(double t, const Eigen::VectorXd& y) override;
   void on_event(const EventNote& note) override;
@@ -36,9 +41,19 @@ class MultibodyRecorder final : public StepSink {
   double max_abs_energy_rel_error() const { return max_energy_error_; }
   double initial_energy() const { return H0_; }
   double last_energy() const { return last_energy_; }
+  // The parts with columns in the step file and in trajectory.csv.
+  const RecordedParts& step_parts() const { return step_parts_; }
+  const RecordedParts& grid_parts() const { return grid_parts_; }
+  // The step file's columns and its units line (without "# ").
+  std::vector<std::string> step_columns() const;
+  std::string step_units() const;
 
  private:
   multibody::MultibodyProblem& problem_;
+  RecordedParts step_parts_, grid_parts_;
+  std::vector<std::string> step_part_names_;
+  std::string step_units_more_;  // the units of the per-part columns, the error-control note
+  std::vector<double> step_values_;  // the per-part columns of one step row, reused
   CsvStream events_;  // created first, then the step file and trajectory.csv
   StepFile steps_;
   std::unique_ptr<CsvStream> trajectory_;

@@ -76,13 +76,16 @@ std::unique_ptr<CsvStream> open_csv_if(bool wanted, const std::filesystem::path&
 class StepFile {
  public:
   // `table` outlives the file (the tables are static).
+  // `units_more` is appended to the table's units line (a mechanism's per-part columns).
   StepFile(const columns::Table& table, const std::vector<std::string>& multiplier_names, bool with_chart,
-           const OutputSettings& output, const std::filesystem::path& out_dir);
+           const OutputSettings& output, const std::filesystem::path& out_dir, const std::string& units_more = {});
   // Whether a step file is written.
   explicit operator bool() const { return csv_ || npy_; }
-  // One row (allocates nothing: the row is built on the stack).
+  // One row (allocates nothing once the row buffer has grown to a row's
+  // length: it is kept from row to row, and a mechanism's row can be wide).
   void write(const columns::Sample& s) {
-    fmt::memory_buffer b;
+    fmt::memory_buffer& b = row_;
+    b.clear();
     if (csv_) {
       columns::append_row(b, table_, columns::kSteps, s, with_chart_);
       csv_->file().write(b.data(), b.size());
@@ -106,6 +109,7 @@ class StepFile {
   bool with_chart_;
   std::unique_ptr<CsvStream> csv_;  // at most one of the two
   std::unique_ptr<NpyFile> npy_;
+  fmt::memory_buffer row_;
 };
 
 // Closes a recorder's files one after another, each even when one before

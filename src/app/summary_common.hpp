@@ -1,0 +1,55 @@
+#pragma once
+// The keys every summary.json carries, one body or many, under one name
+// each: what was run (scene, formulation, integrator and tolerances), how it
+// ended, what it cost, and how far its multipliers can be trusted. Both
+// summary writers (solve.cpp, solve_multibody.cpp) start from this object and
+// add what applies to them only; a key that does not apply is absent, never
+// renamed (tests/unit/test_summary_schema.cpp checks both).
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <Eigen/Core>
+
+#include "counters_json.hpp"
+#include "rigidae/app/solve.hpp"
+#include "rigidae/model/scene.hpp"
+#include "rigidae/solver/version.hpp"
+
+namespace rigidae {
+
+inline nlohmann::json common_summary_json(const Scene& scene, const SolveOutcome& o) {
+  return {
+      {"units", "SI: s, m, rad, rad/s, N, N m, J, kg m^2/s; quaternions scalar first, R_WB body to space"},
+      {"scene", scene.name},
+      {"source", scene.source},
+      {"schema_version", scene.multibody ? 2 : 1},  // of the scene file
+      {"versions",
+       {{"rigidae", RIGIDAE_VERSION},
+        {"sundials", sundials_version()},
+        {"eigen", fmt::format("{}.{}.{}", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION)}}},
+      {"representation", o.representation},
+      {"coordinates", to_string(scene.formulation.coordinates)},
+      {"equations", to_string(scene.formulation.equations)},
+      {"scheme", o.scheme},
+      {"note", o.note},
+      {"integrator", scene.solver.integrator},
+      {"rtol", scene.solver.rtol},
+      {"atol", scene.solver.atol},
+      {"jacobian", scene.solver.jacobian},
+      {"linear_solver", o.run.linear_solver.empty() ? "none" : o.run.linear_solver},  // the one Newton used
+      {"linear_solver_setting", scene.solver.linear_solver},
+      {"status", to_string(o.run.status)},
+      {"message", o.run.message},
+      {"t_reached", o.run.t_reached},
+      {"wall_time_s", o.wall_seconds},
+      {"initial_residual_max_abs", o.run.initial_residual},
+      {"factor_nonzeros", o.run.factor_nonzeros},
+      {"counters", counters_json(o.run.counters)},
+      {"chart_switch_count", o.run.switch_count},
+      {"warnings", warnings_json(o.warnings)},
+      {"multipliers_error_controlled", o.multipliers_error.controlled},
+      {"multipliers_error_note", o.multipliers_error.note},
+  };
+}
+
+}  // namespace rigidae
