@@ -26,6 +26,8 @@
 #include "rigidae/record/multibody_recorder.hpp"
 #include "test_multibody_scenes.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 using namespace rigidae;
 namespace fs = std::filesystem;
 
@@ -299,3 +301,4 @@ TEST_CASE("mechanism steps: recording a step with every part's columns allocates
   rec.close();
 }
 
+TEST_SUITE_END();

@@ -19,6 +19,8 @@
 #include "rigidae/model/recorded_parts.hpp"
 #include "test_multibody_scenes.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 using namespace rigidae;
 namespace fs = std::filesystem;
 
@@ -155,3 +157,5 @@ TEST_CASE("recorded parts: above 50 joints the step file holds the global column
   CHECK(!has(chosen, "link0.mu_norm"));  // bodies still the (cut) default
   CHECK(chosen.size() == 7 + 2 * (3 + 3 + 8));  // ggl: lambda and mu per point row, then reaction and drift
 }
+
+TEST_SUITE_END();

@@ -16,6 +16,8 @@
 #include "rigidae/io/scene_loader.hpp"
 #include "test_multibody_scenes.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 using namespace rigidae;
 namespace fs = std::filesystem;
 
@@ -84,3 +86,5 @@ TEST_CASE("summary schema: single-body and multibody summaries share their commo
     CHECK((*s)["multipliers_error_note"].get<std::string>().find("ggl") != std::string::npos);
   }
 }
+
+TEST_SUITE_END();
