@@ -141,17 +141,16 @@ TEST_CASE("multibody cli: compare on a multibody scene runs every coordinates x 
   CHECK(rows.size() == 3 * 2 * 6 + 3 * (3 * 2 * 2));
   std::map<std::string, int> per_integrator;
   for (const auto& row : rows) {
-    ++per_integrator[row.at("integrator")];
+    ++per_integrator[row.at("integrator").substr(0, row.at("integrator").find(':'))];  // arkode-erk:TABLE
     CHECK(row.at("status") == "success");
   }
   CHECK(per_integrator["ida"] == 36);
   CHECK(per_integrator["cvode-adams"] == 12);
   CHECK(per_integrator["cvode-bdf"] == 12);
   CHECK(per_integrator["arkode-erk"] == 12);
-  // A DAE-only scheme on an ODE integrator: positioned, with the valid ones.
+  // A DAE-only scheme on an ODE integrator: refused with the valid ones.
   r = rigidae::test::run_cli("solve " + kProblems + "four_bar.toml --integrator arkode-erk --scheme ggl --quiet --out " +
                              (dir.parent_path() / "solve").string());
   CHECK(r.exit_code == 2);
-  CHECK(r.output.find("four_bar.toml") != std::string::npos);
-  CHECK(r.output.find("projection") != std::string::npos);
+  CHECK(r.output.find("valid schemes with arkode-erk: index1, projection") != std::string::npos);
 }
