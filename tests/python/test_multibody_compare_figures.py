@@ -23,7 +23,7 @@ BODY_COLUMNS = ("qw", "qx", "qy", "qz", "wx", "wy", "wz", "x", "y", "z")
 
 @pytest.fixture(scope="module")
 def compare_dir(tmp_path_factory):
-    """Every combination (36) of the double pendulum for 0.3 s, with --plot."""
+    """Every combination of the double pendulum for 0.3 s (36 on IDA, 12 per ODE integrator), with --plot."""
     out = tmp_path_factory.mktemp("mbcmp") / "double_pendulum"
     code, _, err = run_cli("compare", DOUBLE_PENDULUM, "--t-end", "0.3", "--repeat", "1", "--out", out, "--plot",
                            "--quiet")
@@ -104,7 +104,7 @@ def test_figure_data_is_the_compare_error_at_the_end(compare_dir):
     from trajectory.csv and reference.csv gives the same numbers."""
     ref = columns(compare_dir / "reference.csv")
     rows = compare_rows(compare_dir)
-    assert len(rows) == 36
+    assert len(rows) == 36 + 3 * 12
     for r in rows:
         assert r["status"] == "success", r["combination"]
         data = figure_data(compare_dir, r["run_dir"])
