@@ -201,20 +201,22 @@ void MultibodyOde::project(double t, double* x) {
 }
 
 void MultibodyOde::project_error(double t, const double* x, double* e) {
-  // e_v + dv with [M G^T; G 0] (dv, nu) = (0, -G e_v): e_v's component in
-  // ker G in the mass metric. G e_v is read off the KKT matrix's lambda rows
-  // (w_A G; the right side carries the same w_A).
-  if (n_lambda_ == 0 || !factorise(t, x)) return;
-  Eigen::VectorXd& b = rhs_;
-  b.setZero();
-  if (klu_) {
-    for (std::size_t k = 0; k < k_from_.size(); ++k)
-      if (k_row_[k] >= nv_ && k_col_[k] < nv_) b[k_row_[k]] -= kkt_values_[k] * e[s_index_[k_col_[k]]];
-  } else {
-    for (int c = 0; c < nv_; ++c) b.tail(n_lambda_) -= K_.col(c).tail(n_lambda_) * e[s_index_[c]];
-  }
-  if (!solve(b)) return;
-  for (int k = 0; k < nv_; ++k) e[s_index_[k]] += solution_[k];
+  // The linearisation of project() at x (CVODE-BDF passes the point just
+  // projected) by a difference of project() itself: (P(x + s e) - P(x)) / s,
+  // s |e| = 1e-6 max(1, |x|). Both the position part (Gauss-Newton onto
+  // Phi = 0, the quaternion norm) and the velocity part (onto G v = 0, with
+  // its dependence on q) are projected: the normal component of e, which
+  // carries the projection's own correction, leaves the error test.
+  Eigen::Map<Eigen::VectorXd> E(e, n_state_);
+  const Eigen::Map<const Eigen::VectorXd> X(x, n_state_);
+  const double e_max = E.cwiseAbs().maxCoeff();
+  if (e_max == 0.0 || !std::isfinite(e_max)) return;
+  const double s = 1e-6 * std::max(1.0, X.cwiseAbs().maxCoeff()) / e_max;
+  error_base_ = X;
+  project(t, error_base_.data());
+  error_moved_ = X + s * E;
+  project(t, error_moved_.data());
+  E = (error_moved_ - error_base_) / s;
 }
 
 void MultibodyOde::observe(double t, const double* x, Eigen::VectorXd& y) {

@@ -30,11 +30,12 @@
 // G v = 0 of the Force blocks. drift() and project() are MultibodyProblem's
 // (Gauss-Newton onto Phi = 0 with the least change in the mass metric, then
 // v onto G v = 0 in the mass metric); project() allocates (sparse QR and LU),
-// unlike the rest of the interface. project_error() projects the velocity
-// part of an error vector onto ker G in the mass metric (the linearisation of
-// the velocity projection at fixed q: one more solve with the KKT matrix at
-// x) and leaves the position part as it is (a conservative error estimate:
-// the normal component is still counted).
+// unlike the rest of the interface. project_error() is project()'s
+// linearisation at x by a difference of two projections, (P(x + s e) -
+// P(x)) / s with s |e| = 1e-6 max(1, |x|) (position and velocity parts
+// alike; only at projections). Without the position part CVODE-BDF's error
+// test keeps the correction of a threshold-triggered projection (up to
+// 100 atol, normal to the manifold) and cuts the step to nothing.
 //
 // observe() gives the DAE layout (q | v | lambda) with lambda of the KKT
 // solve at x, so MultibodyRecorder and the accuracy monitor read ODE runs
@@ -120,6 +121,7 @@ class MultibodyOde final : public OdeProblem {
   mutable Eigen::VectorXd y_drift_;
   Eigen::VectorXd y_big_, yp_big_;  // project(), on_event()
   Eigen::VectorXd xdot_scratch_;
+  Eigen::VectorXd error_base_, error_moved_;  // project_error()
 };
 
 }  // namespace rigidae::multibody
