@@ -39,7 +39,7 @@ ALLOWED = {
 SOLVER_HEADERS_FOR = {
     "dae": {"problem.hpp", "ode_problem.hpp"},
     "settings": {"integrators.hpp"},
-    "multibody": {"problem.hpp"},
+    "multibody": {"problem.hpp", "ode_problem.hpp"},
 }
 SUNDIALS = re.compile(r'#\s*include\s*<(ida|cvode|arkode|sundials|nvector|sunmatrix|sunlinsol|sunnonlinsol)/')
 RIGIDAE = re.compile(r'#\s*include\s*"rigidae/([A-Za-z0-9_]+)/([^"]+)"')

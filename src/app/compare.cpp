@@ -109,8 +109,6 @@ std::string integrator_choices_text() {
   return s;
 }
 
-bool multibody_integrator(const std::string& integrator) { return integrator == kIda; }
-
 std::vector<Combination> all_combinations() {
   Scene single_body;
   return combinations_for(single_body, {{kIda, ""}});
@@ -121,11 +119,6 @@ std::vector<Combination> combinations_for(const Scene& scene, const std::vector<
   std::vector<Combination> all;
   for (const IntegratorChoice& ic : integrators) {
     const IntegratorInfo& info = find_integrator(ic.integrator, where);
-    if (scene.multibody && !multibody_integrator(ic.integrator))
-      throw InputError(fmt::format("{}integrator '{}' does not run multibody scenes: bodies and joints "
-                                   "(schema_version = 2) run on ida only (the DAE; the multibody ODE form is not "
-                                   "built yet)",
-                                   where.empty() ? "" : where + ": ", ic.label()));
     auto runs = [&](const std::string& scheme) {
       return info.schemes.empty() || std::find(info.schemes.begin(), info.schemes.end(), scheme) != info.schemes.end();
     };
@@ -145,7 +138,6 @@ std::vector<Combination> combinations_for(const Scene& scene, const std::vector<
 std::vector<IntegratorChoice> default_integrators(const Scene& scene) {
   std::vector<IntegratorChoice> out;
   for (const IntegratorInfo& i : integrators()) {
-    if (scene.multibody && !multibody_integrator(i.name)) continue;
     out.push_back({i.name, i.name == kArkodeErk ? scene.solver.erk_method : ""});
   }
   return out;
@@ -187,7 +179,8 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
   if (selected.empty())
     throw InputError(scene.multibody
                          ? "--only/--skip leave no combination to run; a multibody scene runs every coordinates x "
-                           "equations x scheme on ida only (see rigidae compare --help)"
+                           "equations x scheme on ida and index1, projection on the ODE integrators (see rigidae "
+                           "compare --help)"
                          : "--only/--skip leave no combination to run; see rigidae compare --help");
 
   CompareReport report;

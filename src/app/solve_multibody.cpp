@@ -1,5 +1,5 @@
 // One run of a multibody scene: the MultibodyProblem through the IDA
-// driver, streamed by MultibodyRecorder behind the accuracy check
+// driver or its ODE form through CVODE/ARKODE, streamed by MultibodyRecorder behind the accuracy check
 // (app/multibody_accuracy_check.hpp), and summary.json.
 #include "solve_multibody.hpp"
 #include "counters_json.hpp"
@@ -16,7 +16,10 @@
 #include "rigidae/app/multibody_accuracy_check.hpp"
 #include "rigidae/io/checked_file.hpp"
 #include "rigidae/core/error.hpp"
+#include "rigidae/multibody/multibody_ode.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/solver/integrators.hpp"
+#include "rigidae/solver/ode_driver.hpp"
 #include "rigidae/record/multibody_recorder.hpp"
 
 namespace rigidae {
@@ -49,11 +52,24 @@ nlohmann::json recorded_parts_json(const multibody::MultibodyProblem& p, const M
 }  // namespace
 
 void check_multibody_integrator(const Scene& scene) {
-  if (scene.solver.integrator != "ida")
-    throw InputError(fmt::format("{}: error: solver.integrator = \"{}\": a scene with bodies and joints "
-                                 "(schema_version = 2) runs on ida only (valid: ida; the multibody ODE form for "
-                                 "cvode-adams, cvode-bdf and arkode-erk is not built yet)",
-                                 scene.source, scene.solver.integrator));
+  if (find_integrator(scene.solver.integrator, scene.source).is_ode)
+    check_integrator_scheme(scene.solver.integrator, scene.formulation.scheme, scene.source);
+}
+
+RunResult run_multibody(multibody::MultibodyProblem& problem, const Scene& scene, StepSink& sink) {
+  if (!find_integrator(scene.solver.integrator, scene.source).is_ode)
+    return integrate(problem, scene.solver, scene.time, sink);
+  // The KKT solve's LU: the DAE's rule (solver.linear_solver, "auto" by the DAE's size).
+  const bool sparse = scene.solver.linear_solver == "klu" ||
+                      (scene.solver.linear_solver == "auto" && problem.size() >= kKluFromUnknowns);
+  multibody::MultibodyOde ode(problem, sparse, scene.source);
+  const bool projection = problem.scheme().projection;
+  RunResult r = integrate_ode(ode, scene.solver, scene.time,
+                              {scene.solver.integrator, scene.solver.erk_method,
+                               {projection, scene.formulation.projection.every_step, projection_threshold(scene)}},
+                              sink);
+  r.linear_solver = sparse ? "klu" : "dense";
+  return r;
 }
 
 SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::path& out_dir) {
@@ -74,7 +90,7 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
   MultibodyInvariantMonitor monitor(problem, scene, &recorder);
   const auto t0 = std::chrono::steady_clock::now();
   try {
-    o.run = integrate(problem, scene.solver, scene.time, monitor);
+    o.run = run_multibody(problem, scene, monitor);
   } catch (const SolverError& e) {
     o.run.status = RunStatus::Failed;
     o.run.message = e.what();

@@ -1,13 +1,22 @@
 #pragma once
 // solve_scene for schema-2 (multibody) scenes (internal header).
 #include "rigidae/app/solve.hpp"
+#include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/solver/ida_driver.hpp"
 
 namespace rigidae {
 
 SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::path& out_dir);
 
-// The integrator a multibody scene may name: ida only (MultibodyProblem is a
-// DAE; its ODE form is not built). InputError naming the file otherwise.
+// The integrator a multibody scene may name: ida (the DAE) with any scheme,
+// or cvode-adams, cvode-bdf, arkode-erk (the ODE form, multibody_ode.hpp)
+// with the schemes they run (index1, projection). InputError naming the file
+// and the valid values otherwise.
 void check_multibody_integrator(const Scene& scene);
+
+// Runs `problem` (assembled from `scene`) on the scene's integrator: IDA on
+// the DAE, or CVODE/ARKODE on its ODE form; every accepted step and output
+// point to `sink` in the DAE layout. SolverError is the caller's.
+RunResult run_multibody(multibody::MultibodyProblem& problem, const Scene& scene, StepSink& sink);
 
 }  // namespace rigidae

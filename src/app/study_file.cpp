@@ -183,11 +183,6 @@ StudySpec read_study(const TomlReader& r, const toml::table& root) {
         r.fail(e, fmt::format("'{}' = \"{}\" is not an integrator; valid: {}", item, names[i],
                               integrator_choices_text()));
       }
-      for (const Scene& scene : spec.scenes)
-        if (scene.multibody && !multibody_integrator(c.integrator))
-          r.fail(e, fmt::format("'{}' = \"{}\", but scene '{}' has bodies and joints (schema_version = 2), which "
-                                "run on ida only (valid for it: ida; the multibody ODE form is not built yet)",
-                                item, names[i], scene.name));
       for (const IntegratorChoice& seen : spec.integrators)
         if (seen.label() == c.label()) r.fail(e, fmt::format("'{}' = \"{}\" is listed twice", item, c.label()));
       spec.integrators.push_back(c);

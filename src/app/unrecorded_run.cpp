@@ -46,7 +46,7 @@ UnrecordedRun multibody_run(const Scene& scene) {
   UnrecordedRun r;
   const auto t0 = std::chrono::steady_clock::now();
   try {
-    r.run = integrate(problem, scene.solver, scene.time, sink);
+    r.run = run_multibody(problem, scene, sink);
   } catch (const SolverError& e) {
     r.run.status = RunStatus::Failed;
     r.run.message = e.what();

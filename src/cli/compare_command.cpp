@@ -41,7 +41,7 @@ int compare_command(const std::vector<std::string>& args) {
   // quaternion/euler/projection@cvode-adams), so one for all runs would contradict it.
   if (cl.has("--integrator"))
     throw InputError("--integrator does not apply to compare: it runs every integrator as rows; pick them with "
-                     "--only, e.g. --only '*@cvode-adams' or --only 'quaternion/*/*@*' (multibody scenes: ida only)");
+                     "--only, e.g. --only '*@cvode-adams' or --only 'quaternion/*/*@*'");
   CompareOptions opt;
   const bool quiet = cl.has("--quiet"), plot = cl.has("--plot");
   opt.out = cl.text("--out");

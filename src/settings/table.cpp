@@ -179,7 +179,8 @@ std::vector<Setting> make_table() {
   // Which integrator runs which schemes: solver/integrators.hpp (checked in cross_problem).
   row({.scene_key = "solver.integrator", .option = "--integrator", .commands = kRun, .kind = Kind::Choice,
        .choices = integrator_names,
-       .help = "ida: BDF on the DAE, every scheme; cvode-adams, cvode-bdf, arkode-erk: the ODE form, schemes "
+       .help = "ida: BDF on the DAE, every scheme; cvode-adams, cvode-bdf, arkode-erk: the ODE form (single "
+               "bodies and mechanisms), schemes "
                "index1 (plain ODE) and projection (ODE + projection; a scene file naming one of them and no "
                "scheme gets projection)",
        .set = [](Scene& s, const Value& v) { s.solver.integrator = word(v); },

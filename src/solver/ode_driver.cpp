@@ -475,6 +475,7 @@ RunResult integrate_ode(OdeProblem& problem, const SolverSettings& opt, const Ti
       continue;
     }
     ++steps_total;
+    problem.after_step(t, x.data());
     if (data.projected) {  // inside the step (CVODE-BDF, ARKODE)
       ++before_restart.projections;
       sink.on_event(projection_note(t, data.drift_before));

@@ -63,15 +63,14 @@ std::string integrator_choices_text();
 std::vector<Combination> all_combinations();
 // The combinations of a scene on the given integrators: for each integrator,
 // coordinates x equations x the schemes it runs. A multibody scene gives
-// every scheme to every coordinates and runs on IDA only (InputError naming
-// `where` for another integrator).
+// every scheme the integrator runs to every coordinates (its bodies'
+// internal constraints and its joints need one even where a single body of
+// those coordinates would not).
 std::vector<Combination> combinations_for(const Scene& scene, const std::vector<IntegratorChoice>& integrators,
                                           const std::string& where = "");
 // compare's default integrators: IDA, then the ODE integrators (arkode-erk
-// with the scene's table) for a single body; IDA only for a multibody scene.
+// with the scene's table), for single bodies and mechanisms alike.
 std::vector<IntegratorChoice> default_integrators(const Scene& scene);
-// Whether the multibody path (MultibodyProblem) runs on this integrator: IDA only.
-bool multibody_integrator(const std::string& integrator);
 
 // A pattern is COMBINATION[@INTEGRATOR]. Its combination part with '/' is a
 // glob over "coordinates/equations/scheme" ("quaternion/*/ggl"); without, it

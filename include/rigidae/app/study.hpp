@@ -26,7 +26,7 @@ struct StudySpec {
   std::vector<Scene> scenes;
   std::vector<std::string> only, skip;  // combination patterns, as for compare (integrator part default "*")
   // The integrators axis ([grid] integrators; default IDA only); each
-  // scene runs the valid scheme pairs of each (multibody scenes: ida only).
+  // scene runs the valid scheme pairs of each (multibody scenes too).
   std::vector<IntegratorChoice> integrators{IntegratorChoice{"ida", ""}};
   std::vector<double> rtols;
   // atol = atol_ratio * rtol when tied, else the fixed atol.

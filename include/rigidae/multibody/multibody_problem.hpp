@@ -168,6 +168,17 @@ class MultibodyProblem final : public DaeProblem {
   // and v onto G v = 0, then makes (y, y') consistent.
   void project(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp);
 
+  // --- The ODE form (multibody_ode.hpp; src/multibody/linear_part.cpp).
+  // A scheme whose multiplier rows are acceleration-level (index1,
+  // projection: no mu, no lambda') has a residual linear in (y', lambda):
+  //   F(t, y, y') = A(t, q, v) [y'_state; lambda] + F(t, (q, v, 0), 0).
+  // Writes A: on the state's columns dF/dy', on the multipliers' dF/dy; on
+  // sparsity()'s pattern (values zeroed here). Allocates nothing.
+  void linear_part_sparse(double t, const double* y, double* values);
+  // After an accepted step of an ODE run: each torsion angle's branch
+  // follows the motion (after_step's part that is not a restart).
+  void follow_torsion(double t, const double* y);
+
  private:
   struct BodyWork {
     BodyState st;
@@ -178,6 +189,7 @@ class MultibodyProblem final : public DaeProblem {
   void evaluate_block(int j, const double* y, const double* yp);
   void differentiate_block(int j, const double* y, const double* yp);
   void assemble_jacobian(double t, double cj, const double* y, const double* yp, JacobianSink& sink);
+  void assemble_linear_part(double t, const double* y, JacobianSink& sink);
   void add_forces(const double* y, double* F);
   void add_force_jacobian(const double* y, JacobianSink& sink);
   BlockSides torsion_sides(const TorsionSpring& ts) const;

@@ -62,6 +62,9 @@ class OdeProblem {
   virtual int event_count() const { return 0; }
   virtual void event_functions(double /*t*/, const double* /*x*/, double* /*g*/) {}
   virtual StepAction on_event(double /*t*/, Eigen::VectorXd& /*x*/) { return {}; }
+  // After every accepted step, at the step's end (before any projection):
+  // bookkeeping that follows the motion (a mechanism's torsion angles); x is not changed.
+  virtual void after_step(double /*t*/, const double* /*x*/) {}
   // Events that happened since the last call (chart switches), oldest first.
   virtual std::vector<EventNote> take_events() { return {}; }
 };

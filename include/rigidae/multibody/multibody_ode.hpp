@@ -1,0 +1,127 @@
+#pragma once
+// A mechanism (MultibodyProblem) as an ODE x' = f(t, x) for CVODE and
+// ARKODE, x = the DAE's state (q | v) of every body, in the DAE's order.
+//
+// The MultibodyProblem must be assembled with an acceleration-level scheme
+// (index1 or projection): its unknowns are then y = (q | v | lambda), no mu,
+// and its residual is linear in (y'_state, lambda) with no lambda':
+//   F(t, y, y') = A(q, v) [y'_state; lambda] + F(t, (q, v, 0), 0)
+//   A = [I 0 0; 0 M G^T; 0 G 0]   (rows q, v, lambda; columns q', v', lambda)
+// (MultibodyProblem::linear_part_sparse; src/multibody/linear_part.cpp). So
+//   q'          = -F_q(t, (q, v, 0), 0)          = N(q) v
+//   [M  G^T] [v'    ]   [-F_v(t, (q, v, 0), 0)]   [f    ]
+//   [G  0  ] [lambda] = [-F_l(t, (q, v, 0), 0)] = [gamma]
+// the saddle-point (KKT) system over every body's velocities and every
+// joint's (and, Lagrange form, every body's internal) multipliers, solved at
+// each evaluation: dense LU (Eigen, partial pivoting, preallocated) or
+// sparse LU (KLU: pattern analysed once, refactorised in place), chosen like
+// the DAE's linear solver (solver.linear_solver; "auto" by the DAE's size).
+// The Euler form's |q| = 1, R^T R = I carry no multiplier in index1: the
+// kinematics keep them up to the integration error.
+//
+// Rank: [M G^T; G 0] is regular while G has full row rank and M is positive
+// definite on ker G. When a factorisation has a pivot below 1e-13 of the
+// largest (KLU: after a refactorisation with the old pivot order, a fresh
+// one with new pivots is tried first) or the solution is not finite, rhs()
+// returns false: the integrator retries a smaller step, and fails with its
+// own message if the loss of rank persists. Never a least-squares answer.
+//
+// Invariants (when there are constraint rows): Phi(q) = 0 of every block and
+// G v = 0 of the Force blocks. drift() and project() are MultibodyProblem's
+// (Gauss-Newton onto Phi = 0 with the least change in the mass metric, then
+// v onto G v = 0 in the mass metric); project() allocates (sparse QR and LU),
+// unlike the rest of the interface. project_error() is project()'s
+// linearisation at x by a difference of two projections, (P(x + s e) -
+// P(x)) / s with s |e| = 1e-6 max(1, |x|) (position and velocity parts
+// alike; only at projections). Without the position part CVODE-BDF's error
+// test keeps the correction of a threshold-triggered projection (up to
+// 100 atol, normal to the manifold) and cuts the step to nothing.
+//
+// observe() gives the DAE layout (q | v | lambda) with lambda of the KKT
+// solve at x, so MultibodyRecorder and the accuracy monitor read ODE runs
+// unchanged (joint reactions from lambda). Events (Euler-angle charts, one
+// root function per body in Euler angles) and the torsion angles' branches
+// are MultibodyProblem's, with the multipliers padded by zeros.
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+
+#include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/solver/ode_problem.hpp"
+
+namespace rigidae::multibody {
+
+class KluSaddle;  // the sparse factorisation (multibody_ode.cpp)
+
+class MultibodyOde final : public OdeProblem {
+ public:
+  // problem: assembled with index1 or projection (else InputError naming
+  // `where` and the valid schemes); it must outlive this object.
+  // sparse: KLU, else dense LU.
+  MultibodyOde(MultibodyProblem& problem, bool sparse, const std::string& where);
+  ~MultibodyOde() override;
+
+  int size() const override { return n_state_; }
+  void initial_state(double t0, Eigen::VectorXd& x) override;
+  void absolute_tolerances(double rtol, double atol, const Eigen::VectorXd& x0,
+                           Eigen::Ref<Eigen::VectorXd> out) const override;
+  bool rhs(double t, const double* x, double* xdot) override;
+
+  bool has_invariants() const override { return n_lambda_ > 0 || has_internal_; }
+  OdeDrift drift(double t, const double* x) const override;
+  void project(double t, double* x) override;
+  void project_error(double t, const double* x, double* e) override;
+
+  int observed_size() const override { return n_; }
+  void observe(double t, const double* x, Eigen::VectorXd& y) override;
+
+  int event_count() const override { return problem_.event_count(); }
+  void event_functions(double t, const double* x, double* g) override;
+  StepAction on_event(double t, Eigen::VectorXd& x) override;
+  void after_step(double t, const double* x) override;
+  std::vector<EventNote> take_events() override { return problem_.take_events(); }
+
+  // The multipliers of the last rhs() (DAE order), for tests.
+  const Eigen::VectorXd& multipliers() const { return lambda_; }
+  bool sparse() const { return klu_ != nullptr; }
+  // Size of the KKT system (velocities + multipliers).
+  int saddle_size() const { return ns_; }
+  // KLU: full factorisations (new pivot order) so far; 0 for dense.
+  long fresh_factorisations() const;
+
+ private:
+  // Assembles and factorises the KKT matrix at (t, x) and sets rhs_ to its
+  // right side, F0_ to F(t, (x, 0), 0). False if F0 is not finite or the
+  // matrix is singular.
+  bool factorise(double t, const double* x);
+  // solution_ = K^-1 b with the last factorisation; false if not finite.
+  bool solve(const Eigen::VectorXd& b);
+
+  MultibodyProblem& problem_;
+  int n_ = 0, n_state_ = 0, nv_ = 0, n_lambda_ = 0, ns_ = 0;
+  bool has_internal_ = false;
+  std::vector<int> q_index_;  // the q entries of y
+  std::vector<int> s_index_;  // the KKT unknowns' entries of y: velocities, then multipliers (ascending)
+  // The pattern's entries that fall in the KKT block: position in the
+  // pattern's values, and the (row, column) inside the KKT matrix.
+  std::vector<std::int64_t> k_from_;
+  std::vector<int> k_row_, k_col_;
+  Eigen::VectorXd values_;      // A on the problem's pattern
+  Eigen::VectorXd kkt_values_;  // its KKT block, compressed columns (KLU)
+  Eigen::VectorXd solution_;    // (v', lambda) or a projection's (dv, nu)
+  Eigen::VectorXd y_, yp_zero_, F0_, rhs_, lambda_;
+  // Dense path.
+  Eigen::MatrixXd K_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+  // Sparse path.
+  std::unique_ptr<KluSaddle> klu_;
+  // Scratch of drift() (const in the interface: MultibodyProblem's memo).
+  mutable Eigen::VectorXd y_drift_;
+  Eigen::VectorXd y_big_, yp_big_;  // project(), on_event()
+  Eigen::VectorXd xdot_scratch_;
+  Eigen::VectorXd error_base_, error_moved_;  // project_error()
+};
+
+}  // namespace rigidae::multibody

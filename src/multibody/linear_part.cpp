@@ -1,0 +1,58 @@
+// The linear part of an acceleration-level residual, for the ODE form
+// (multibody_ode.hpp). With index1's rows (and projection's, the same rows)
+// the residual of multibody_problem.cpp reads, per body and per block,
+//   kinematics  F_q      = q' - qdot(q, v)                 (no mu)
+//   dynamics    F_v      = M(q) v' - f(t, q, v) + G^T lambda
+//   block rows  F_lambda = w_A (G v' - gamma) + w_V G v + w_P Phi
+// so F = A [y'_state; lambda] + F(t, (q, v, 0), 0) with
+//   A = [ I  0    0   ]   rows q
+//       [ 0  M    G^T ]   rows v
+//       [ 0  w_A G  0 ]   rows lambda
+// (columns q', v', lambda). A is written through the iteration matrix's sink,
+// so its entries land on sparsity()'s pattern: every pair written here is
+// one the exact iteration matrix writes too (cj dF/dy' and G^T).
+#include "rigidae/multibody/multibody_problem.hpp"
+
+#include <algorithm>
+
+#include "rigidae/core/error.hpp"
+
+namespace rigidae::multibody {
+
+void MultibodyProblem::assemble_linear_part(double t, const double* y, JacobianSink& sink) {
+  evaluate(t, y, work_.empty() || work_[0].st.lagrange ? 2 : 1);
+  for (const BodyModel& b : bodies_) {
+    const BodyWork& w = work_[&b - bodies_.data()];
+    sink.add_diagonal(b.q_group, 1.0);
+    sink.add(b.v_group, b.v_group, 0, 0, b.mass * Mat3::Identity());
+    sink.add(b.v_group, b.v_group, 3, 3, w.terms.M);
+  }
+  for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) {
+    const ConstraintBlock& blk = blocks_[j];
+    if (blk.mu_group >= 0 || blk.kind != ConstraintKind::Force)
+      throw SolverError("linear_part: a block with mu or of the kinematic kind has no acceleration-level form");
+    evaluate_block(j, y, nullptr);
+    const BlockEval& e = block_eval_[j];
+    for (int x = 0; x < 2; ++x) {
+      const int bi = blk.body_of_side[x];
+      if (bi == kGround) continue;
+      const int V = bodies_[bi].v_group;
+      sink.add(blk.lambda_group, V, 0, 0, blk.lambda_rows.acceleration * e.G[x]);
+      sink.add(V, blk.lambda_group, 0, 0, e.G[x].transpose());
+    }
+  }
+}
+
+void MultibodyProblem::linear_part_sparse(double t, const double* y, double* values) {
+  std::fill(values, values + pattern_.nnz(), 0.0);
+  sink_->start_sparse(values);
+  assemble_linear_part(t, y, *sink_);
+}
+
+void MultibodyProblem::follow_torsion(double t, const double* y) {
+  if (torsions_.empty()) return;
+  evaluate(t, y, 2);
+  follow_torsion_angles();
+}
+
+}  // namespace rigidae::multibody

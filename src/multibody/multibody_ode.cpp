@@ -1,0 +1,255 @@
+// A mechanism as an ODE (equations and conventions in
+// include/rigidae/multibody/multibody_ode.hpp).
+#include "rigidae/multibody/multibody_ode.hpp"
+
+#include <fmt/format.h>
+#include <klu.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "rigidae/core/error.hpp"
+
+namespace rigidae::multibody {
+
+namespace {
+
+// A pivot this small against the largest: the KKT matrix is taken as
+// singular (the constraints lost rank, or a body has no mass on ker G).
+constexpr double kSingularPivotRatio = 1e-13;
+
+}  // namespace
+
+// KLU on the KKT matrix's fixed pattern: analysed once, refactorised in place
+// with the pivot order of the last full factorisation (no allocation), and
+// factorised afresh (new pivots) when the pivot ratio has dropped by 1e3
+// since that factorisation: old pivots can turn bad as the mechanism moves.
+class KluSaddle {
+ public:
+  KluSaddle(int n, std::vector<int> col_start, std::vector<int> rows)
+      : n_(n), ap_(std::move(col_start)), ai_(std::move(rows)) {
+    klu_defaults(&common_);
+    symbolic_ = klu_analyze(n_, ap_.data(), ai_.data(), &common_);
+    if (!symbolic_) throw SolverError(fmt::format("KLU could not analyse the {0} x {0} KKT pattern", n_));
+  }
+  ~KluSaddle() {
+    if (numeric_) klu_free_numeric(&numeric_, &common_);
+    if (symbolic_) klu_free_symbolic(&symbolic_, &common_);
+  }
+  KluSaddle(const KluSaddle&) = delete;
+  KluSaddle& operator=(const KluSaddle&) = delete;
+
+  // Factorises the matrix of values ax (the pattern's order); false if singular.
+  bool factorise(double* ax) {
+    if (numeric_ && klu_refactor(ap_.data(), ai_.data(), ax, symbolic_, numeric_, &common_) &&
+        klu_rcond(symbolic_, numeric_, &common_) && common_.rcond >= 1e-3 * fresh_rcond_ &&
+        common_.rcond >= kSingularPivotRatio)
+      return true;
+    if (numeric_) klu_free_numeric(&numeric_, &common_);
+    ++fresh_factorisations_;
+    numeric_ = klu_factor(ap_.data(), ai_.data(), ax, symbolic_, &common_);
+    if (!numeric_ || !klu_rcond(symbolic_, numeric_, &common_)) {
+      fresh_rcond_ = 0.0;
+      return false;
+    }
+    fresh_rcond_ = common_.rcond;
+    return common_.rcond >= kSingularPivotRatio;
+  }
+  void solve(double* b) { klu_solve(symbolic_, numeric_, n_, 1, b, &common_); }
+  long fresh_factorisations() const { return fresh_factorisations_; }
+
+ private:
+  int n_;
+  std::vector<int> ap_, ai_;
+  klu_common common_;
+  klu_symbolic* symbolic_ = nullptr;
+  klu_numeric* numeric_ = nullptr;
+  double fresh_rcond_ = 0.0;
+  long fresh_factorisations_ = 0;
+};
+
+MultibodyOde::MultibodyOde(MultibodyProblem& problem, bool sparse, const std::string& where)
+    : problem_(problem) {
+  n_ = problem.size();
+  n_state_ = problem.state_size();
+  for (const ConstraintBlock& blk : problem.blocks())
+    if (blk.mu_group >= 0 || blk.lambda_group < 0 || blk.kind != ConstraintKind::Force ||
+        blk.lambda_rows.acceleration == 0.0)
+      throw InputError(fmt::format("{}: error: the ODE form of a mechanism needs an acceleration-level scheme "
+                                   "(valid: index1, projection), not '{}'",
+                                   where, problem.scheme().name));
+  for (const BodyModel& b : problem.bodies()) has_internal_ = has_internal_ || b.rep->nc() > 0;
+
+  // Which unknowns of y are q, v or multipliers.
+  std::vector<int> pos(n_, -1);
+  for (const BodyModel& b : problem.bodies()) {
+    const UnknownGroup& q = problem.groups()[b.q_group];
+    for (int k = 0; k < q.size; ++k) q_index_.push_back(q.offset + k);
+    const UnknownGroup& v = problem.groups()[b.v_group];
+    for (int k = 0; k < v.size; ++k) s_index_.push_back(v.offset + k);
+  }
+  nv_ = static_cast<int>(s_index_.size());
+  for (const ConstraintBlock& blk : problem.blocks()) {
+    const UnknownGroup& l = problem.groups()[blk.lambda_group];
+    for (int k = 0; k < l.size; ++k) s_index_.push_back(l.offset + k);
+  }
+  std::sort(s_index_.begin(), s_index_.end());
+  ns_ = static_cast<int>(s_index_.size());
+  n_lambda_ = ns_ - nv_;
+  for (int k = 0; k < ns_; ++k) pos[s_index_[k]] = k;
+  // The KKT unknowns are velocities then multipliers: the bodies' groups come first in y.
+  for (int k = 0; k < nv_; ++k)
+    if (s_index_[k] >= n_state_) throw SolverError("MultibodyOde: the layout is not (q | v | lambda)");
+
+  // The KKT block of the pattern, in compressed columns (its order is the pattern's).
+  const SparsityPattern& p = problem.sparsity();
+  std::vector<int> ap(ns_ + 1, 0), ai;
+  for (int c = 0; c < ns_; ++c) {
+    const int col = s_index_[c];
+    for (std::int64_t k = p.col_start[col]; k < p.col_start[col + 1]; ++k) {
+      const int r = pos[p.rows[k]];
+      if (r < 0) continue;
+      k_from_.push_back(k);
+      k_row_.push_back(r);
+      k_col_.push_back(c);
+      ai.push_back(r);
+    }
+    ap[c + 1] = static_cast<int>(ai.size());
+  }
+  values_.setZero(p.nnz());
+  kkt_values_.setZero(static_cast<Eigen::Index>(k_from_.size()));
+  solution_.setZero(ns_);
+  y_.setZero(n_);
+  yp_zero_.setZero(n_);
+  F0_.setZero(n_);
+  rhs_.setZero(ns_);
+  lambda_.setZero(n_lambda_);
+  y_drift_.setZero(n_);
+  xdot_scratch_.setZero(n_state_);
+  if (sparse) {
+    klu_ = std::make_unique<KluSaddle>(ns_, std::move(ap), std::move(ai));
+  } else {
+    K_.setZero(ns_, ns_);
+    lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(ns_);
+  }
+}
+
+MultibodyOde::~MultibodyOde() = default;
+
+void MultibodyOde::initial_state(double t0, Eigen::VectorXd& x) {
+  Eigen::VectorXd y, yp;
+  problem_.initial_state(t0, y, yp);
+  x = y.head(n_state_);
+}
+
+void MultibodyOde::absolute_tolerances(double /*rtol*/, double atol, const Eigen::VectorXd& /*x0*/,
+                                       Eigen::Ref<Eigen::VectorXd> out) const {
+  out.setConstant(atol);  // the DAE's tolerance of q and v (MultibodyProblem::absolute_tolerances)
+}
+
+bool MultibodyOde::factorise(double t, const double* x) {
+  y_.head(n_state_) = Eigen::Map<const Eigen::VectorXd>(x, n_state_);
+  y_.tail(n_ - n_state_).setZero();
+  if (!problem_.residual(t, y_.data(), yp_zero_.data(), F0_.data())) return false;
+  problem_.linear_part_sparse(t, y_.data(), values_.data());
+  for (int k = 0; k < ns_; ++k) rhs_[k] = -F0_[s_index_[k]];
+  if (klu_) {
+    for (std::size_t k = 0; k < k_from_.size(); ++k) kkt_values_[k] = values_[k_from_[k]];
+    return klu_->factorise(kkt_values_.data());
+  }
+  for (std::size_t k = 0; k < k_from_.size(); ++k) K_(k_row_[k], k_col_[k]) = values_[k_from_[k]];
+  lu_.compute(K_);
+  const auto d = lu_.matrixLU().diagonal().cwiseAbs();
+  return d.minCoeff() >= kSingularPivotRatio * d.maxCoeff();
+}
+
+
+bool MultibodyOde::solve(const Eigen::VectorXd& b) {
+  if (klu_) {
+    solution_ = b;
+    klu_->solve(solution_.data());
+  } else {
+    solution_.noalias() = lu_.solve(b);
+  }
+  return solution_.allFinite();
+}
+
+bool MultibodyOde::rhs(double t, const double* x, double* xdot) {
+  if (!factorise(t, x) || !solve(rhs_)) return false;
+  // q' = -F_q(t, (q, v, 0), 0); v' and lambda from the KKT solution.
+  for (int i : q_index_) xdot[i] = -F0_[i];
+  for (int k = 0; k < nv_; ++k) xdot[s_index_[k]] = solution_[k];
+  lambda_ = solution_.tail(n_lambda_);
+  for (int i : q_index_)
+    if (!std::isfinite(xdot[i])) return false;
+  return true;
+}
+
+OdeDrift MultibodyOde::drift(double t, const double* x) const {
+  y_drift_.head(n_state_) = Eigen::Map<const Eigen::VectorXd>(x, n_state_);
+  y_drift_.tail(n_ - n_state_).setZero();
+  const auto [position, velocity] = problem_.drift(t, y_drift_.data());
+  return {position, velocity};
+}
+
+void MultibodyOde::project(double t, double* x) {
+  y_big_.setZero(n_);
+  yp_big_.setZero(n_);
+  y_big_.head(n_state_) = Eigen::Map<const Eigen::VectorXd>(x, n_state_);
+  problem_.project(t, y_big_, yp_big_);
+  Eigen::Map<Eigen::VectorXd>(x, n_state_) = y_big_.head(n_state_);
+}
+
+void MultibodyOde::project_error(double t, const double* x, double* e) {
+  // The linearisation of project() at x (CVODE-BDF passes the point just
+  // projected) by a difference of project() itself: (P(x + s e) - P(x)) / s,
+  // s |e| = 1e-6 max(1, |x|). Both the position part (Gauss-Newton onto
+  // Phi = 0, the quaternion norm) and the velocity part (onto G v = 0, with
+  // its dependence on q) are projected: the normal component of e, which
+  // carries the projection's own correction, leaves the error test.
+  Eigen::Map<Eigen::VectorXd> E(e, n_state_);
+  const Eigen::Map<const Eigen::VectorXd> X(x, n_state_);
+  const double e_max = E.cwiseAbs().maxCoeff();
+  if (e_max == 0.0 || !std::isfinite(e_max)) return;
+  const double s = 1e-6 * std::max(1.0, X.cwiseAbs().maxCoeff()) / e_max;
+  error_base_ = X;
+  project(t, error_base_.data());
+  error_moved_ = X + s * E;
+  project(t, error_moved_.data());
+  E = (error_moved_ - error_base_) / s;
+}
+
+void MultibodyOde::observe(double t, const double* x, Eigen::VectorXd& y) {
+  y.setZero(n_);
+  y.head(n_state_) = Eigen::Map<const Eigen::VectorXd>(x, n_state_);
+  if (n_lambda_ == 0) return;
+  if (!rhs(t, x, xdot_scratch_.data())) {
+    for (int k = nv_; k < ns_; ++k) y[s_index_[k]] = std::nan("");
+    return;
+  }
+  for (int k = nv_; k < ns_; ++k) y[s_index_[k]] = solution_[k];
+}
+
+void MultibodyOde::event_functions(double t, const double* x, double* g) {
+  // Reads q only: x holds the state at the DAE's offsets.
+  problem_.event_functions(t, x, g);
+}
+
+StepAction MultibodyOde::on_event(double t, Eigen::VectorXd& x) {
+  y_big_.setZero(n_);
+  yp_big_.setZero(n_);
+  y_big_.head(n_state_) = x;
+  const StepAction a = problem_.on_event(t, 0.0, y_big_, yp_big_);
+  if (a.kind == StepAction::Kind::Restart) x = y_big_.head(n_state_);
+  return a;
+}
+
+void MultibodyOde::after_step(double t, const double* x) {
+  y_drift_.head(n_state_) = Eigen::Map<const Eigen::VectorXd>(x, n_state_);
+  y_drift_.tail(n_ - n_state_).setZero();
+  problem_.follow_torsion(t, y_drift_.data());
+}
+
+long MultibodyOde::fresh_factorisations() const { return klu_ ? klu_->fresh_factorisations() : 0; }
+
+}  // namespace rigidae::multibody
