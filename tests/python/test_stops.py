@@ -362,3 +362,13 @@ def test_a_full_device_names_the_step_file_not_the_summary(tmp_path):
     s = read_summary(tmp_path)
     assert s["status"] == "failed"
     assert "output lost: " + str(tmp_path / "steps.csv") in s["message"]
+
+
+def test_a_full_device_under_a_mechanism_keeps_a_summary_naming_the_step_file(tmp_path):
+    (tmp_path / "steps.csv").symlink_to("/dev/full")
+    code, _, err = run_cli("solve", DOUBLE_PENDULUM, "--out", tmp_path)
+    assert code == 1
+    assert f"{tmp_path / 'steps.csv'}: " in err and "No space left on device" in err
+    s = read_summary(tmp_path)
+    assert s["status"] == "failed"
+    assert s["message"].startswith("output lost: " + str(tmp_path / "steps.csv"))
