@@ -197,6 +197,18 @@ def test_a_collapsed_step_size_fails_fast_with_time_step_floor_and_formulation(t
     assert len(rows_of(tmp_path / "steps.csv")) == s["counters"]["steps"]
 
 
+def test_the_ode_driver_has_the_floor_too(tmp_path):
+    # CVODE-Adams with projection restarts at order 1 after each projection
+    # and creeps at ~6e-12 s here; a floor of 1e-9 x 2 s stops it.
+    code, _, err = run_cli("solve", HEAVY_TOP, "--integrator", "cvode-adams", "--scheme", "projection", *STALL,
+                           "--min-step-fraction", "1e-9", "--quiet", "--out", tmp_path)
+    assert code == 1, err
+    s = read_summary(tmp_path)
+    assert s["message"].startswith("step size collapsed (cvode-adams): 20 or more steps in a row below the floor")
+    assert "< floor 2e-09 s" in s["message"] and "with scheme projection." in s["message"]
+    assert s["counters"]["steps"] < 10000
+
+
 def test_a_tiny_first_step_that_grows_is_not_a_stall(tmp_path):
     # 1e-20 s is 1e-8 of the floor: IDA doubles its step for about 27 steps
     # before it passes the floor, all of them below it, and then runs normally.
@@ -372,3 +384,26 @@ def test_a_full_device_under_a_mechanism_keeps_a_summary_naming_the_step_file(tm
     s = read_summary(tmp_path)
     assert s["status"] == "failed"
     assert s["message"].startswith("output lost: " + str(tmp_path / "steps.csv"))
+
+
+def test_term_stops_a_study_and_leaves_no_temporary_folder(tmp_path):
+    scene = tmp_path / "long_free_body.toml"
+    scene.write_text(Path(FREE_BODY).read_text().replace("end = 20.0", "end = 100000.0")
+                     .replace("output_step = 0.02", "output_step = 100.0"))
+    study = small_study(tmp_path)
+    study.write_text(study.read_text().replace(FREE_BODY, str(scene)))
+    out = tmp_path / "out"
+    p = subprocess.Popen([CLI, "study", "run", study, "--shard", "0/1", "--out", out, "--quiet"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 30
+    while not list(out.glob("runs/**/.*.tmp-*/steps.csv")):
+        assert time.monotonic() < deadline and p.poll() is None
+        time.sleep(0.01)
+    time.sleep(0.3)
+    p.send_signal(signal.SIGTERM)
+    p.send_signal(signal.SIGTERM)
+    _, err = p.communicate(timeout=60)
+    assert p.returncode == 1, err
+    assert "study interrupted; complete runs are kept" in err
+    assert not list(out.glob("runs/**/.*.tmp-*"))  # the run in progress leaves nothing
+    assert not list(out.glob("runs/**/run.json"))
