@@ -66,7 +66,7 @@ int compare_command(const std::vector<std::string>& args) {
     fmt::print("outputs: {}/ (compare.csv, compare.txt, compare.md, {}one folder per combination)\n", opt.out.string(),
                report.reference.ok ? "reference.csv, " : "");
 
-  if (plot) {
+  if (plot && !report.rows.empty()) {
     std::vector<std::string> plot_args{opt.out.string()};
     if (quiet) plot_args.push_back("--quiet");
     run_plot_script("plot_compare.py", plot_args);
