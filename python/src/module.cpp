@@ -60,7 +60,10 @@ bool in_main_thread() {
   return threading.attr("current_thread")().is(threading.attr("main_thread")());
 }
 
-void on_sigint(int) { g_interrupt_requested.store(true); }
+void on_sigint(int) {
+  g_interrupt_signal.store(SIGINT);
+  g_interrupt_requested.store(true);
+}
 
 // While alive: SIGINT stops a run between steps instead of waiting for the
 // GIL (Python's own handler only runs between bytecodes). Signal handlers
@@ -69,6 +72,7 @@ class InterruptScope {
  public:
   InterruptScope() {
     g_interrupt_requested.store(false);
+    g_interrupt_signal.store(0);
     if (!in_main_thread()) return;
     struct sigaction sa {};
     sa.sa_handler = on_sigint;

@@ -1,7 +1,9 @@
 #include "rigidae/app/command_line.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include <algorithm>
 #include <array>
 #include <stdexcept>
 
@@ -14,8 +16,9 @@ namespace rigidae::cli {
 namespace {
 
 constexpr const char* kExitCodes =
-    "Exit codes: 0 success, 1 the solver failed or was interrupted (outputs kept),\n"
-    "2 bad input (scene file or command line).\n";
+    "Exit codes: 0 success, 1 a run failed, stalled, timed out or was interrupted\n"
+    "(SIGINT/SIGTERM), or output could not be written (outputs so far kept),\n"
+    "2 bad input (scene file, command line, an output folder not writable).\n";
 
 const std::array<CommandInfo, 3> kCommands{{
     {settings::kSolve, "solve", "rigidae solve SCENE.toml [options]",
@@ -41,8 +44,9 @@ const std::array<CommandInfo, 3> kCommands{{
      "                                      best.txt, draw the figures\n",
      "the scene settings of a study come from its scene files and its [grid]",
      "A complete run (its folder holds run.json) is never redone: rerun the same\n"
-     "command to resume an interrupted study. Exit codes: 0 done, 1 interrupted or\n"
-     "(collect) runs missing, 2 bad input.\n"},
+     "command to resume an interrupted study. Exit codes: 0 done, 1 interrupted,\n"
+     "(collect) runs missing or output not written, 2 bad input (study or scene\n"
+     "file, command line, an output folder not writable).\n"},
 }};
 
 std::vector<std::string> options_of(const CommandInfo& command) {
@@ -119,6 +123,31 @@ CommandLine parse_arguments(const std::vector<std::string>& args, const CommandI
   return cl;
 }
 
+namespace {
+
+// --t-end shorter than the scene's output.times: the times beyond the new
+// end are dropped with a note (the run ends where the user asked); when none
+// is left the command is refused at output.times' position.
+void clip_output_times(Scene& scene) {
+  std::vector<double>& times = scene.time.output_times;
+  if (times.empty() || times.back() <= scene.time.end || !(scene.time.end > scene.time.start)) return;
+  const auto beyond = std::upper_bound(times.begin(), times.end(), scene.time.end);
+  const std::size_t dropped = static_cast<std::size_t>(times.end() - beyond);
+  const std::string where = scene.output_times_at.empty() ? scene.source : scene.output_times_at;
+  if (beyond == times.begin())
+    throw InputError(fmt::format("{}: error: 'output.times' = [{}] s has no time left inside [time.start, --t-end] "
+                                 "= [{}, {}] s: give a --t-end of at least {} s (the first output time), or edit "
+                                 "output.times",
+                                 where, fmt::join(times, ", "), scene.time.start, scene.time.end, times.front()));
+  fmt::print(stderr,
+             "{}: note: --t-end {} s leaves out {} of the {} output times (from {} s on); trajectory.csv has the {} "
+             "up to {} s\n",
+             where, scene.time.end, dropped, times.size(), *beyond, times.size() - dropped, *(beyond - 1));
+  times.erase(beyond, times.end());
+}
+
+}  // namespace
+
 Scene scene_from(const CommandLine& cl, const CommandInfo& command) {
   if (cl.positional.empty())
     throw InputError(fmt::format("{0} needs a scene file: rigidae {0} SCENE.toml (see rigidae {0} --help)", command.name));
@@ -128,6 +157,7 @@ Scene scene_from(const CommandLine& cl, const CommandInfo& command) {
   Scene scene = io::load_scene(cl.positional.front());
   for (const auto& [s, v] : cl.options)
     if (s->set && !s->scene_key.empty()) s->set(scene, v);
+  clip_output_times(scene);
   if (const auto p = settings::cross_problem(scene))
     throw InputError(fmt::format("{} = {}", settings::scene_setting(p->scene_key).label(), p->message));
   return scene;

@@ -4,6 +4,7 @@
 #include <fnmatch.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -191,10 +192,25 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
   report.multibody = scene.multibody.has_value();
 
   const std::string kind = opt.reference.empty() ? to_string(scene.reference) : opt.reference;
+  const auto reference_started = std::chrono::steady_clock::now();
   report.reference = make_reference(scene, kind,
                                     opt.reference_rtol.value_or(default_reference_rtol(scene.solver.rtol)),
                                     opt.out, say);
+  const double reference_wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - reference_started).count();
+  report.run_timeout_s = opt.run_timeout.value_or(default_run_timeout(reference_wall));
   const ReferenceTrajectory& ref = report.reference;
+  if (g_interrupt_requested.load()) {
+    report.interrupted = true;
+    report.stopped = fmt::format("interrupted by {} while making the reference; no combination was run",
+                                 interrupt_cause());
+    return report;
+  }
+  if (!ref.ok && !opt.keep_going) {
+    report.stopped = "the reference failed, so no error can be measured; no combination was run (--keep-going "
+                     "runs them anyway)";
+    return report;
+  }
   auto drop_steps = [&](const std::filesystem::path& dir) {
     std::error_code ec;
     if (!opt.keep_steps) std::filesystem::remove(dir / "steps.csv", ec);
@@ -206,13 +222,19 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
   for (int k = 0; k < total; ++k) {
     CompareRow row;
     row.combination = selected[k];
-    const Scene s = row.combination.applied_to(scene);
+    Scene s = row.combination.applied_to(scene);
+    s.solver.wall_time_limit = report.run_timeout_s;
     const std::filesystem::path dir = opt.out / row.combination.folder();
     row.outcome = solve_scene(s, dir);
     row.wall_seconds.push_back(row.outcome.wall_seconds);
     // Repeats time the same work; a failed run is not worth timing again.
-    for (int r = 1; r < opt.repeat && row.outcome.run.status == RunStatus::Success; ++r)
-      row.wall_seconds.push_back(solve_scene(s, dir).wall_seconds);
+    for (int r = 1; r < opt.repeat && row.outcome.run.status == RunStatus::Success && !g_interrupt_requested.load();
+         ++r) {
+      SolveOutcome again = solve_scene(s, dir);
+      row.wall_seconds.push_back(again.wall_seconds);
+      // A repeat stopped by a signal or the time limit wrote over the folder: the row is that run.
+      if (again.run.status != RunStatus::Success) row.outcome = std::move(again);
+    }
     row.wall_median = median(row.wall_seconds);
 
     row.accuracy = measure_run_accuracy(s, dir, ref, row.outcome.run.status == RunStatus::Success);
@@ -236,10 +258,20 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
     const IdaCounters& c = row.outcome.run.counters;
     say(fmt::format("[{}/{}] {:<28} {:<8} {:>8} steps {:>8.3f} s  final error {}", k + 1, total, row.combination.name(),
                     to_string(row.outcome.run.status), c.steps, row.wall_median, sci(row.error_final_rad)));
+    const bool interrupted = row.outcome.run.status == RunStatus::Interrupted || g_interrupt_requested.load();
     report.rows.push_back(std::move(row));
+    if (interrupted) {
+      // The interrupted run is a row (its steps kept); the rest are not started.
+      report.interrupted = true;
+      report.stopped = fmt::format("interrupted by {} after {} of {} combinations; the rows so far are kept",
+                                   interrupt_cause(), k + 1, total);
+      break;
+    }
   }
   return report;
 }
+
+double default_run_timeout(double reference_wall_s) { return std::max(300.0, 10.0 * reference_wall_s); }
 
 std::string format_compare_table(const CompareReport& r) {
   std::string s;
@@ -274,6 +306,7 @@ std::string format_compare_table(const CompareReport& r) {
       any_failed = true;
       s += fmt::format("  {}: {}\n", row.combination.name(), row.outcome.run.message);
     }
+  if (!r.stopped.empty()) s += fmt::format("stopped: {}\n", r.stopped);
   // A multibody scene's start notes are the scene's, the same for every row: once.
   std::vector<std::string> start_notes;
   for (const CompareRow& row : r.rows)

@@ -172,7 +172,15 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
     return RunSink{recorder.get(), [&] { recorder->close(); }};
   });
   o.out_dir = out_dir;
-  write_summary(out_dir / "summary.json", scene, o);
+  try {
+    write_summary(out_dir / "summary.json", scene, o);
+  } catch (const OutputError& e) {
+    // On a full disk the summary fails after the step file did: the file that
+    // failed first (the CSV) is the cause and is named first.
+    if (o.output_lost) throw OutputError(fmt::format("{}; summary.json could not be written either: {}",
+                                                     o.run.message, e.what()));
+    throw;
+  }
   if (o.output_lost) throw OutputError(o.run.message);
   return o;
 }

@@ -94,9 +94,21 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
   } catch (const SolverError& e) {
     o.run.status = RunStatus::Failed;
     o.run.message = e.what();
+  } catch (const OutputError& e) {  // a step or grid file refused a write (a full disk): kept, and said
+    o.output_lost = true;
+    o.run.status = RunStatus::Failed;
+    o.run.message = fmt::format("output lost: {}; the run stopped there, after {} steps recorded, and what was "
+                                "written is kept",
+                                e.what(), recorder.steps_recorded());
   }
   o.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  recorder.close();
+  try {
+    recorder.close();
+  } catch (const OutputError& e) {
+    if (!o.output_lost) o.run.message = fmt::format("output lost: {}; what was written is kept", e.what());
+    o.output_lost = true;
+    o.run.status = RunStatus::Failed;
+  }
   o.extremes.steps_recorded = recorder.steps_recorded();
   o.extremes.max_drift_position = recorder.max_drift_position();
   o.extremes.max_drift_velocity = recorder.max_drift_velocity();
@@ -143,7 +155,14 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
       {"columns_units", recorder.step_units()},
   });
   o.start_warnings = problem.warnings();  // printed by the command (solve: each run; compare: once)
-  write_file_atomically(out_dir / "summary.json", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+  try {
+    write_file_atomically(out_dir / "summary.json", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+  } catch (const OutputError& e) {
+    if (o.output_lost)  // the file that failed first leads
+      throw OutputError(fmt::format("{}; summary.json could not be written either: {}", o.run.message, e.what()));
+    throw;
+  }
+  if (o.output_lost) throw OutputError(o.run.message);
   return o;
 }
 

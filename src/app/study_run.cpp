@@ -4,7 +4,11 @@
 // wall time users see with save_everystep = false, and the error of its
 // final state), written under a temporary name and renamed when complete.
 #include <fmt/format.h>
+#include <signal.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
 
 #include <algorithm>
 #include <cmath>
@@ -41,6 +45,38 @@ fs::path temporary_name(const fs::path& final_path) {
   char host[256] = "host";
   gethostname(host, sizeof host - 1);
   return final_path.parent_path() / fmt::format(".{}.tmp-{}-{}", final_path.filename().string(), host, getpid());
+}
+
+// Temporary folders that killed workers left behind (SIGKILL, a node lost,
+// a second signal after the grace period: nothing ran their cleanup). Only
+// those of this host whose process is gone are removed: another worker on
+// this host may be writing its own right now, and of another host's nothing
+// can be known from here (it is left; its folder never counts as a run).
+// Returns the folders removed.
+std::vector<fs::path> remove_dead_temporaries(const fs::path& out) {
+  char host[256] = "host";
+  gethostname(host, sizeof host - 1);
+  const std::string mark = fmt::format(".tmp-{}-", host);
+  std::vector<fs::path> dead;
+  std::error_code ec;
+  for (const fs::path& top : {out / "runs", out / "reference"}) {
+    if (!fs::is_directory(top, ec)) continue;
+    for (auto it = fs::recursive_directory_iterator(top, ec); !ec && it != fs::recursive_directory_iterator();
+         it.increment(ec)) {
+      const std::string name = it->path().filename().string();
+      const std::size_t at = name.rfind(mark);
+      if (name.empty() || name[0] != '.' || at == std::string::npos) continue;
+      const std::string digits = name.substr(at + mark.size());
+      if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+      const long pid = std::strtol(digits.c_str(), nullptr, 10);
+      if (pid == getpid() || (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH)) {
+        dead.push_back(it->path());
+        it.disable_recursion_pending();
+      }
+    }
+  }
+  for (const fs::path& d : dead) fs::remove_all(d, ec);
+  return dead;
 }
 
 // Moves a finished folder into place. Another worker may have finished the
@@ -195,6 +231,8 @@ json run_record(const StudySpec& spec, const StudyRun& run, const SolveOutcome& 
 }  // namespace
 
 bool run_study(const StudySpec& spec, const std::vector<StudyRun>& runs, const StudyRunOptions& opt) {
+  for (const fs::path& d : remove_dead_temporaries(opt.out))
+    if (opt.note) opt.note(fmt::format("removed {}: the temporary folder of a run killed before it finished", d.string()));
   StudyReferences references(spec, opt.out);
   StudyProgress p;
   p.total = static_cast<int>(runs.size());

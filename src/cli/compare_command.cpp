@@ -50,6 +50,8 @@ int compare_command(const std::vector<std::string>& args) {
   if (cl.has("--only")) opt.only = split_list(cl.text("--only"));
   if (cl.has("--skip")) opt.skip = split_list(cl.text("--skip"));
   if (const auto* x = cl.last("--reference-rtol")) opt.reference_rtol = std::get<double>(*x);
+  if (const auto* x = cl.last("--run-timeout")) opt.run_timeout = std::get<double>(*x);
+  opt.keep_going = cl.has("--keep-going");
   if (opt.out.empty()) opt.out = std::filesystem::path("out") / fmt::format("{}-compare", scene.name.empty() ? "scene" : scene.name);
 
   create_output_folder(opt.out, /*disposable=*/false);
@@ -64,16 +66,17 @@ int compare_command(const std::vector<std::string>& args) {
     fmt::print("outputs: {}/ (compare.csv, compare.txt, compare.md, {}one folder per combination)\n", opt.out.string(),
                report.reference.ok ? "reference.csv, " : "");
 
-  if (plot) {
+  if (plot && !report.rows.empty()) {
     std::vector<std::string> plot_args{opt.out.string()};
     if (quiet) plot_args.push_back("--quiet");
     run_plot_script("plot_compare.py", plot_args);
   }
-  if (!report.reference.ok) {
+  if (!report.stopped.empty()) fmt::print(stderr, "rigidae: compare stopped: {}\n", report.stopped);
+  if (!report.reference.ok && !report.interrupted) {
     fmt::print(stderr, "rigidae: error: {}\n", report.reference.message);
     return 1;
   }
-  return 0;
+  return report.interrupted ? 1 : 0;
 }
 
 }  // namespace rigidae::cli

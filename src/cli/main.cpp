@@ -1,8 +1,11 @@
 // rigidae command line: the one place where errors become exit codes.
-//   0 success, 1 the solver failed (or was interrupted), 2 bad input.
+//   0 success, 1 a run failed, stalled, timed out or was interrupted, or output
+//   was lost, 2 bad input (docs/robustness.md, "Exit codes").
 #include <fmt/format.h>
 
+#include <atomic>
 #include <csignal>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -37,8 +40,10 @@ Outputs of a run (in its folder): steps.csv (every IDA step), trajectory.csv
 (the output grid), events.csv (chart switches, projections), summary.json
 (configuration, counters, maxima, final state). Scene format: docs/scene_format.md.
 
-Exit codes: 0 success, 1 the solver failed or was interrupted (outputs kept),
-2 bad input (scene file or command line).
+Exit codes (every command): 0 success; 1 a run failed, stalled, timed out or
+was interrupted by SIGINT/SIGTERM, or output could not be written (what was
+computed is kept, summary.json says why); 2 bad input (scene or study file,
+command line, an output folder not writable; nothing is run).
 )";
 
 void print_help() {
@@ -48,14 +53,33 @@ void print_help() {
   fmt::print("{}", kTrailer);
 }
 
-// The first Ctrl-C (or TERM) asks the run to stop after the current step and
-// keep its outputs; a second one, if the run is stuck inside a step, ends the
-// process at once the default way (the CSV files may then end mid-row).
+// The first Ctrl-C (or TERM) asks the run to stop after the current step,
+// write its summary and keep its outputs. Repeats within kSignalGrace are
+// ignored: GNU timeout sends TERM to the process and then to its whole
+// process group, and a shell's Ctrl-C may arrive twice; either would
+// otherwise kill the process in the middle of that final flush. A repeat
+// after the grace period (a run stuck inside a step, a flush that hangs)
+// ends the process at once the default way (the files may then end mid-row).
+constexpr long long kSignalGraceNs = 2'000'000'000;  // 2 s
+std::atomic<long long> g_first_signal_ns{0};
+
+long long monotonic_ns() {  // clock_gettime is async-signal-safe
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<long long>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
 void on_signal(int sig) {
-  if (g_interrupt_requested.exchange(true)) {
-    std::signal(sig, SIG_DFL);
-    std::raise(sig);
+  const long long now = monotonic_ns();
+  if (!g_interrupt_requested.load()) {
+    g_first_signal_ns.store(now);
+    g_interrupt_signal.store(sig);
+    g_interrupt_requested.store(true);
+    return;
   }
+  if (now - g_first_signal_ns.load() < kSignalGraceNs) return;  // a repeat during the flush
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
 }
 
 int run(int argc, char** argv) {

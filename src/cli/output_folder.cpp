@@ -3,6 +3,10 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <vector>
 
 #include "rigidae/core/error.hpp"
@@ -36,6 +40,11 @@ void create_output_folder(const fs::path& dir, bool disposable) {
   fs::create_directories(dir, ec);
   if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", dir.string(), ec.message()));
   if (!first_missing.empty()) created().push_back({first_missing, disposable});
+  // A folder that exists but cannot be written is bad input for every
+  // command alike (exit 2, nothing run), not a failure found midway.
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    throw InputError(fmt::format("{}: output folder is not writable: {} (give another --out, or make it writable)",
+                                 dir.string(), std::strerror(errno)));
 }
 
 void remove_rejected_output_folders() noexcept {

@@ -165,6 +165,7 @@ int study_command(const std::vector<std::string>& args) {
   opt.out = c.out;
   opt.keep_steps = c.keep_steps;
   opt.progress = [&](const StudyProgress& p) { progress.update(p); };
+  opt.note = [](const std::string& line) { fmt::print(stderr, "rigidae: note: {}\n", line); };
   if (!run_study(spec, todo, opt)) {
     fmt::print(stderr, "\nrigidae: study interrupted; complete runs are kept, rerun the same command to resume\n");
     return 1;

@@ -525,6 +525,7 @@ void read_output(const TomlReader& r, const toml::table& root, Scene& scene,
     times.push_back(x);
   }
   scene.time.output_times = std::move(times);
+  scene.output_times_at = r.location(n->source());
 }
 
 void read_euler_charts(const TomlReader& r, const toml::table& f, EulerChartSpec& euler, Scene& scene) {

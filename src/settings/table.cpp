@@ -164,6 +164,14 @@ std::vector<Setting> make_table() {
        .help = "first step; 0: estimated so that its order-1 error meets the tolerance",
        .set = [](Scene& s, const Value& v) { s.solver.initial_step = real(v); },
        .get = [](const Scene& s) -> Value { return s.solver.initial_step; }});
+  row({.scene_key = "solver.min_step_fraction", .option = "--min-step-fraction", .commands = kRun,
+       .kind = Kind::Real, .metavar = "X", .min = Bound{0, true}, .max = Bound{1e-6, true},
+       .why = "0 turns the floor off; above 1e-6 it would stop runs that merely resolve a fast transient",
+       .help = "step-size floor relative to the time scale: a run whose steps stay below X * max(|end - start|, "
+               "|t|) for 20 steps in a row fails as stalled, naming t, the step, the floor and the formulation "
+               "(at 1e-12 the rest of the span would take over 1e12 steps)",
+       .set = [](Scene& s, const Value& v) { s.solver.min_step_fraction = real(v); },
+       .get = [](const Scene& s) -> Value { return s.solver.min_step_fraction; }});
   row({.scene_key = "solver.jacobian", .option = "--jacobian", .commands = kRun, .kind = Kind::Choice,
        .choices = jacobian_names,
        .help = "iteration matrix: exact derivatives, rigidae's central differences or IDA's forward difference "
@@ -245,6 +253,14 @@ std::vector<Setting> make_table() {
        .help = "timed runs of each combination; wall time is their median (study: minimum and median)"});
   row({.study_key = "timing.warmups", .kind = Kind::Integer, .min = Bound{0, true}, .max = Bound{1000, true},
        .default_text = "1", .help = "untimed runs before the timed ones"});
+  row({.option = "--run-timeout", .commands = kCompare, .kind = Kind::Real, .metavar = "S", .unit = "s",
+       .min = Bound{0, true}, .default_text = "max(300, 10 x the reference's wall time)",
+       .help = "wall-time limit of each combination's run; a run past it is a failed row whose message says it "
+               "timed out (its steps kept), and compare goes on with the next; 0: no limit"});
+  row({.option = "--keep-going", .commands = kCompare, .kind = Kind::Boolean, .flag_value = "true",
+       .default_text = "off",
+       .help = "run every combination even when the reference failed (errors are then not reported; the exit "
+               "code stays 1); without it compare stops there"});
   row({.option = "--only", .commands = kCompare, .kind = Kind::Text, .metavar = "LIST",
        .default_text = "every combination",
        .help = "comma-separated patterns of combinations to run: 'quaternion/*/ggl' globs the whole name, a bare "

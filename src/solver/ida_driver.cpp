@@ -11,7 +11,9 @@
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
 #include <exception>
 #include <optional>
@@ -21,11 +23,53 @@
 #include "central_differences.hpp"
 #include "rigidae/core/error.hpp"
 #include "serial_vector.hpp"
+#include "stall_watch.hpp"
 #include "rigidae/solver/version.hpp"
 
 namespace rigidae {
 
 std::atomic<bool> g_interrupt_requested{false};
+std::atomic<int> g_interrupt_signal{0};
+
+std::string interrupt_cause() {
+  switch (g_interrupt_signal.load()) {
+    case 0: return "a request to stop";
+    case SIGINT: return "SIGINT (Ctrl-C)";
+    case SIGTERM: return "SIGTERM";
+    default: return fmt::format("signal {}", g_interrupt_signal.load());
+  }
+}
+
+std::string timeout_message(double limit_s, double t, double t_end, double last_step, long steps) {
+  return fmt::format("timed out: the wall-time limit of {:g} s per run (compare --run-timeout) was reached at t = "
+                     "{:.9g} s of {:.9g} s, last step size {:.3g} s, after {} steps; the steps so far are kept",
+                     limit_s, t, t_end, last_step, steps);
+}
+
+double step_floor(const SolverSettings& s, const TimeGrid& span, double t) {
+  return s.min_step_fraction * std::max(span.end - span.start, std::abs(t));
+}
+
+std::string stall_message(const SolverSettings& s, const TimeGrid& span, double t, double h, long steps,
+                          const std::string& integrator, const std::string& problem_says) {
+  const double floor = step_floor(s, span, t);
+  return fmt::format(
+      "step size collapsed ({}): {} or more steps in a row below the floor at t = {:.9g} s of {:.9g} s, last step size "
+      "{:.3g} s < floor {:.3g} s (solver.min_step_fraction = {:g} x max(|end - start|, |t|) = {:.3g} s), after {} "
+      "steps; at that step size the rest would take about {:.3g} more steps.{}{} Likely cause: a singularity of the "
+      "formulation near this state (a gimbal lock, a mechanism at a dead point, constraint rows losing rank), or "
+      "tolerances too tight for it; try another coordinates/scheme, looser tolerances, or --min-step-fraction 0 to "
+      "let it creep on",
+      integrator, kStalledSteps, t, span.end, h, floor, s.min_step_fraction,
+      std::max(span.end - span.start, std::abs(t)), steps, h > 0 ? (span.end - t) / h : 0.0,
+      problem_says.empty() ? "" : " ", problem_says);
+}
+
+std::string interrupt_message(double t, double last_step, long steps) {
+  return fmt::format("interrupted by {} at t = {:.9g} s, last step size {:.3g} s, after {} steps; the steps so far "
+                     "are kept",
+                     interrupt_cause(), t, last_step, steps);
+}
 
 std::string sundials_version() { return SUNDIALS_VERSION; }
 
@@ -216,7 +260,10 @@ void add_counters(void* mem, IdaCounters& c) {
 }
 
 // Plain words for IDA's failure flags, with the usual cause.
-std::string explain_failure(int flag) {
+// `suppressed`: whether the run leaves its algebraic unknowns out of the
+// error test (every shipped scheme does); the index-2/3 hint fits only a run
+// that does not.
+std::string explain_failure(int flag, bool suppressed) {
   switch (flag) {
     case IDA_TOO_MUCH_WORK: return "too much work before reaching the output time";
     case IDA_TOO_MUCH_ACC: return "the requested accuracy is below what round-off allows (raise rtol/atol)";
@@ -224,8 +271,11 @@ std::string explain_failure(int flag) {
       return "repeated error-test failures (the step kept shrinking: a singularity, or tolerances too tight "
              "for this formulation)";
     case IDA_CONV_FAIL:
-      return "repeated Newton convergence failures (the iteration matrix is singular or the problem is stiffer "
-             "than the step allows; an index-2/3 form without error-test suppression fails like this)";
+      return suppressed ? "repeated Newton convergence failures (the iteration matrix is singular or the problem is "
+                          "stiffer than the step allows)"
+                        : "repeated Newton convergence failures (the iteration matrix is singular or the problem is "
+                          "stiffer than the step allows; an index-2/3 form without error-test suppression fails like "
+                          "this)";
     case IDA_LSETUP_FAIL: return "the linear solver setup failed (singular iteration matrix)";
     case IDA_LSOLVE_FAIL: return "the linear solve failed";
     case IDA_RES_FAIL: return "the residual reported an unrecoverable error";
@@ -329,6 +379,8 @@ class IdaRun {
   long steps_total_ = 0;
   IdaCounters before_restart_;  // counters of the segments before the last IDAReInit
   bool stopped_ = false;
+  StallWatch stall_;  // accepted steps below the step-size floor
+  std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
 };
 
 void IdaRun::start() {
@@ -371,9 +423,12 @@ bool IdaRun::running() {
   if (stopped_ || t_ >= span_.end) return false;
   if (g_interrupt_requested.load()) {
     result_.status = RunStatus::Interrupted;
-    result_.message = fmt::format("interrupted by a signal (Ctrl-C or SIGTERM) at t = {:.9g} s, last step size "
-                                  "{:.3g} s, after {} steps; the steps so far are kept",
-                                  t_, last_step(), steps_total_);
+    result_.message = interrupt_message(t_, last_step(), steps_total_);
+    return false;
+  }
+  if (opt_.wall_time_limit > 0 &&
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count() >= opt_.wall_time_limit) {
+    fail(timeout_message(opt_.wall_time_limit, t_, span_.end, last_step(), steps_total_));
     return false;
   }
   if (steps_total_ >= opt_.max_steps) {
@@ -401,7 +456,7 @@ bool IdaRun::advance_one_step() {
     IDAGetCurrentTime(ida_.mem, &tcur);
     t_ = tcur;
     fail(fmt::format("IDA failed with {} at t = {:.9g} s, step size {:.3g} s: {}{}", flag_name(flag_), tcur, h,
-                     explain_failure(flag_), what_ida_said()));
+                     explain_failure(flag_, problem_.suppress_algebraic_error_test()), what_ida_said()));
     return false;
   }
   emit_grid_until(t_);
@@ -422,6 +477,12 @@ void IdaRun::after_step() {
   IDAGetLastOrder(ida_.mem, &order);
   y_ = y_ida_;
   sink_.on_step(t_, h, order, y_);
+  // The step-size floor: steps this small make no progress on the scene's
+  // time scale; a run creeping at them would take max_steps to fail.
+  if (stall_.stalled(h, step_floor(opt_, span_, t_), t_ >= span_.end)) {
+    fail(stall_message(opt_, span_, t_, h, steps_total_, "ida", problem_.describe_stall(t_, y_.data())));
+    return;
+  }
   if (t_ < span_.end) {
     yp_ = yp_ida_;
     apply(problem_.after_step(t_, h, y_, yp_));

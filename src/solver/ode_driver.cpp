@@ -14,6 +14,7 @@
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <exception>
@@ -23,6 +24,7 @@
 #include "rigidae/core/error.hpp"
 #include "rigidae/solver/integrators.hpp"
 #include "serial_vector.hpp"
+#include "stall_watch.hpp"
 
 namespace rigidae {
 
@@ -433,16 +435,24 @@ RunResult integrate_ode(OdeProblem& problem, const SolverSettings& opt, const Ti
 
   double t = span.start;
   long steps_total = 0;
+  StallWatch stall;  // accepted steps below the step-size floor
+  double last_accepted_h = 0.0;
+  const auto started = std::chrono::steady_clock::now();
   while (t < span.end) {
     if (g_interrupt_requested.load()) {
       result.status = RunStatus::Interrupted;
-      result.message = fmt::format("interrupted by a signal (Ctrl-C or SIGTERM) at t = {:.9g} s, last step size "
-                                   "{:.3g} s, after {} steps; the steps so far are kept",
-                                   t, stepper->last_step(), steps_total);
+      result.message = interrupt_message(t, last_accepted_h, steps_total);
+      break;
+    }
+    if (opt.wall_time_limit > 0 &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() >= opt.wall_time_limit) {
+      result.status = RunStatus::Failed;
+      result.message = timeout_message(opt.wall_time_limit, t, span.end, last_accepted_h, steps_total);
       break;
     }
     if (steps_total >= opt.max_steps) {
-      const double h = stepper->last_step();
+      // The last accepted step: after a restart (Adams' projection) the integrator's own is 0.
+      const double h = last_accepted_h;
       result.status = RunStatus::Failed;
       result.message = fmt::format(
           "too much work: max_steps = {} internal steps taken and t = {:.9g} s of {:.9g} s reached, last step "
@@ -482,6 +492,14 @@ RunResult integrate_ode(OdeProblem& problem, const SolverSettings& opt, const Ti
     }
     problem.observe(t, x.data(), y_obs);
     sink.on_step(t, stepper->last_step(), stepper->last_order(), y_obs);
+    const double h_taken = stepper->last_step();
+    last_accepted_h = h_taken;
+    if (stall.stalled(h_taken, step_floor(opt, span, t), t >= span.end)) {
+      result.status = RunStatus::Failed;
+      result.message = stall_message(opt, span, t, h_taken, steps_total, method.integrator,
+                                     problem.describe_stall(t, x.data()));
+      break;
+    }
     if (adams && data.projection.enabled && t < span.end) {
       // CVODE projects inside the step for BDF only: Adams restarts.
       const OdeDrift d = problem.drift(t, x.data());

@@ -89,6 +89,10 @@ struct Sample {
 Sample valid_sample(const settings::Setting& s) {
   switch (s.kind) {
     case settings::Kind::Real:
+      if (s.max && s.max->value < 0.5) {  // a small range (solver.min_step_fraction): half its top
+        const std::string half = fmt::format("{:g}", s.max->value / 2);
+        return {half, half};
+      }
       return {"0.5", "0.5"};
     case settings::Kind::Integer:
       return {"2", "2"};

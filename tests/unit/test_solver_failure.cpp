@@ -188,7 +188,8 @@ void check_interrupt(int sig, const std::string& name) {
   REQUIRE(WIFEXITED(status));
   CHECK(WEXITSTATUS(status) == 1);
   const std::string message = check_stopped_run(out, "interrupted");
-  CHECK(message.find("interrupted by a signal") != std::string::npos);
+  CHECK(message.find("interrupted by " + std::string(sig == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM")) !=
+        std::string::npos);
   CHECK(read_summary(out)["t_reached"].get<double>() < 1000000.0);
   fs::remove_all(out);
 }

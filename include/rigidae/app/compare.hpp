@@ -91,7 +91,20 @@ struct CompareOptions {
   // Keep each run's steps.csv (and the reference's); by default only the
   // summaries and output grids stay (a full compare wrote 152 MB of steps).
   bool keep_steps = false;
+  // Wall-time limit of each combination's run in s (0: none); unset:
+  // default_run_timeout of the reference's wall time.
+  std::optional<double> run_timeout;
+  // Run every combination even when the reference failed (otherwise
+  // compare stops there: without a reference no error can be reported).
+  bool keep_going = false;
 };
+
+// The default per-run limit: max(300 s, 10 x the reference's wall time). A
+// combination at the scene's own tolerance runs 10-100x faster than the
+// tight reference (docs/benchmarks.md), so 10x the reference only cuts runs
+// that are far off their peers; 300 s keeps exact references (no run) and
+// short scenes from timing out on a busy machine.
+double default_run_timeout(double reference_wall_s);
 
 struct CompareRow {
   Combination combination;
@@ -111,6 +124,11 @@ struct CompareReport {
   bool multibody = false;  // errors are the worst body's (app/accuracy.hpp), plus centre-of-mass positions
   ReferenceTrajectory reference;
   std::vector<CompareRow> rows;
+  double run_timeout_s = 0.0;  // the per-run limit used (0: none)
+  // Why compare stopped before running every combination ("" if it did
+  // not): a signal, or a failed reference without keep_going.
+  std::string stopped;
+  bool interrupted = false;  // by a signal (Ctrl-C, TERM)
 };
 
 // Runs everything; one combination's failure is a row, not an exception.

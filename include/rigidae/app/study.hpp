@@ -91,6 +91,7 @@ struct StudyRunOptions {
   std::filesystem::path out;
   std::function<void(const StudyProgress&)> progress;  // after each run (may be empty)
   bool keep_steps = false;  // keep each run's steps.csv (nothing of a study reads them)
+  std::function<void(const std::string&)> note;  // one-line notes (leftovers removed; may be empty)
 };
 
 // Runs every incomplete run of `runs` (skipping complete ones). Returns false

@@ -37,7 +37,21 @@ struct SolverSettings {
   // lists the valid values and which schemes each integrator runs).
   std::string integrator = "ida";
   std::string erk_method = "fehlberg78";
+  // The step-size floor, relative to the scene's time scale: a run whose
+  // accepted steps stay below min_step_fraction * max(|end - start|, |t|)
+  // for kStalledSteps steps in a row fails as stalled (at that size the rest
+  // of the span would take over 1e12 steps). 0: no floor.
+  double min_step_fraction = 1e-12;
+  // Wall-clock limit of one run in s (compare --run-timeout); 0: none. A run
+  // past it fails with a message saying so, its steps kept.
+  double wall_time_limit = 0.0;
 };
+
+// Accepted steps in a row below the floor before a run counts as stalled:
+// a step that lands on an output or stop time, or the first steps after a
+// restart, may be tiny once; IDA grows its step at most 2x per step, so a
+// run recovering from a transient is back above the floor well within this.
+inline constexpr long kStalledSteps = 20;
 
 // Limits of the time grid: |start|, |end| (about 32 years; beyond, t + h
 // loses the digits of small steps) and the number of output intervals.

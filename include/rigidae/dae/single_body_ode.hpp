@@ -56,6 +56,10 @@ class SingleBodyOde final : public OdeProblem, public ChartState {
   void event_functions(double t, const double* x, double* g) override;
   StepAction on_event(double t, Eigen::VectorXd& x) override;
   std::vector<EventNote> take_events() override;
+  // The formulation that stalled, for the step-size floor's message.
+  std::string describe_stall(double /*t*/, const double* /*y*/) override {
+    return "Formulation: " + representation().name() + " with scheme " + dae_.scheme().name() + ".";
+  }
 
  private:
   // v' and (Force kind) lambda at (t, q, v) into acc_ and lambda_.

@@ -53,6 +53,10 @@ class SingleBodyProblem final : public DaeProblem, public ChartState {
   StepAction on_event(double t, double h, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
   StepAction after_step(double t, double h, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
   std::vector<EventNote> take_events() override;
+  // The formulation that stalled, for the step-size floor's message.
+  std::string describe_stall(double /*t*/, const double* /*y*/) override {
+    return "Formulation: " + representation().name() + " with scheme " + dae_.scheme().name() + ".";
+  }
 
  private:
   // Re-expresses (y, y') at t in the most regular chart and makes it

@@ -71,6 +71,7 @@ struct Scene {
   Mat3 R0_WB = Mat3::Identity();       // initial orientation, an exact rotation after loading
   Vec3 omega0_B = Vec3::Zero();        // rad/s, initial angular velocity in body components
   TimeGrid time;
+  std::string output_times_at;  // "FILE:LINE:COL" of output.times in the scene file, for messages ("" if none)
   OutputSettings output;  // what is recorded, in which format
   Formulation formulation;
   SolverSettings solver;

@@ -114,6 +114,8 @@ class MultibodyProblem final : public DaeProblem {
   StepAction on_event(double t, double h, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
   StepAction after_step(double t, double h, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
   std::vector<EventNote> take_events() override;
+  // The scheme and the joints whose rows lost rank (src/multibody/stall_report.cpp).
+  std::string describe_stall(double t, const double* y) override;
 
   // --- Structure, for tests and reports.
   const std::vector<BodyModel>& bodies() const { return bodies_; }

@@ -71,6 +71,21 @@ class StepSink {
 
 // Set to true (e.g. from a SIGINT handler) to stop the run between steps.
 extern std::atomic<bool> g_interrupt_requested;
+// The signal that set it (SIGINT, SIGTERM), 0 when set otherwise (a test, an
+// API call): the interrupted run's message names it.
+extern std::atomic<int> g_interrupt_signal;
+// "SIGTERM", "SIGINT (Ctrl-C)", or "a request to stop" for g_interrupt_signal.
+std::string interrupt_cause();
+// The message of a run stopped by g_interrupt_requested between steps.
+std::string interrupt_message(double t, double last_step, long steps);
+// The message of a run stopped by SolverSettings::wall_time_limit.
+std::string timeout_message(double limit_s, double t, double t_end, double last_step, long steps);
+// The step-size floor at t: settings.min_step_fraction * max(|end - start|, |t|).
+double step_floor(const SolverSettings& settings, const TimeGrid& span, double t);
+// The message of a run whose steps stayed below the floor for kStalledSteps
+// steps: t, the step, the floor, the integrator and what the problem says.
+std::string stall_message(const SolverSettings& settings, const TimeGrid& span, double t, double h, long steps,
+                          const std::string& integrator, const std::string& problem_says);
 
 // solver.linear_solver = "auto": KLU from this many unknowns on, dense LU
 // below (measured on N-link chains: bench/chain.sh --solvers dense,klu and

@@ -67,6 +67,8 @@ class OdeProblem {
   virtual void after_step(double /*t*/, const double* /*x*/) {}
   // Events that happened since the last call (chart switches), oldest first.
   virtual std::vector<EventNote> take_events() { return {}; }
+  // As DaeProblem::describe_stall: why the step size collapsed at (t, x), or "".
+  virtual std::string describe_stall(double /*t*/, const double* /*x*/) { return ""; }
 };
 
 }  // namespace rigidae

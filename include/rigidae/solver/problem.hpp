@@ -137,6 +137,12 @@ class DaeProblem {
 
   // Residual evaluations the problem spent itself (difference Jacobians).
   virtual long own_residual_evaluations() const { return 0; }
+
+  // When the step size has collapsed below the floor (SolverSettings::
+  // min_step_fraction) at (t, y): what the problem knows about why, in the
+  // user's words (its formulation; for a mechanism the joints whose rows
+  // lost rank), appended to the failure message. "" says nothing.
+  virtual std::string describe_stall(double /*t*/, const double* /*y*/) { return ""; }
 };
 
 }  // namespace rigidae
