@@ -99,6 +99,10 @@ struct MultibodySpec {
   // Largest position-level joint miss at the start that is projected (with a
   // warning) rather than refused; larger misses are an error naming the joint.
   double start_tolerance = 1e-6;  // m (and rad for angular rows)
+  // The mobility the author expects (scene key expected_dof, top level or
+  // [mechanism]); a start whose rank mobility differs warns.
+  std::optional<int> expected_dof;
+  SourcePosition expected_dof_where;
 };
 
 }  // namespace rigidae
