@@ -13,6 +13,7 @@
 //   set aside see it), stays a positioned error.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -20,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
@@ -148,18 +150,28 @@ TEST_CASE("redundant: the revolute four-bar moves as the relaxed one, every IDA 
     const Trace tr = run(s, end, 1e-9);
     REQUIRE(tr.status == RunStatus::Success);
     REQUIRE(tr.t.size() == ref.t.size());
-    double angle = 0.0, phi = 0.0, energy = 0.0;
+    // The relaxed four-bar in the same combination: its own error against
+    // the reference bounds what the scheme itself costs (index3's is large).
+    Scene rs = relaxed;
+    rs.formulation = s.formulation;
+    const Trace same = run(rs, end, 1e-9);
+    REQUIRE(same.status == RunStatus::Success);
+    double angle = 0.0, angle_relaxed = 0.0, phi = 0.0, energy = 0.0, energy_relaxed = 0.0;
     for (std::size_t i = 0; i < tr.t.size(); ++i) {
       angle = std::max(angle, std::abs(wrap(tr.angle[i] - ref.angle[i])));
+      angle_relaxed = std::max(angle_relaxed, std::abs(wrap(same.angle[i] - ref.angle[i])));
       phi = std::max(phi, tr.dropped_phi[i]);
       energy = std::max(energy, std::abs(tr.energy[i] - tr.energy[0]) / std::abs(tr.energy[0]));
+      energy_relaxed = std::max(energy_relaxed, std::abs(same.energy[i] - same.energy[0]) / std::abs(same.energy[0]));
     }
-    MESSAGE(label << ": crank angle vs relaxed " << angle << " rad, dropped rows |Phi| " << phi
-                  << ", energy " << energy << " relative");
-    // The crank turns about 6 rad in 1 s: agreement to the tolerance's order.
-    CHECK(angle < 1e-5);
+    MESSAGE(label << ": crank angle vs relaxed reference " << angle << " rad (relaxed, same combination: "
+                  << angle_relaxed << "), rows set aside |Phi| " << phi << ", energy " << energy
+                  << " relative (relaxed: " << energy_relaxed << ")");
+    // The crank turns about 6 rad in 1 s: agreement to the tolerance's order,
+    // or within a few times what the scheme costs on the relaxed mechanism.
+    CHECK(angle < std::max(1e-5, 3.0 * angle_relaxed));
+    CHECK(energy < std::max(1e-6, 3.0 * energy_relaxed));
     CHECK(phi < 1e-9);
-    CHECK(energy < 1e-5);
   }
 }
 
@@ -210,26 +222,25 @@ TEST_CASE("redundant: expected_dof warns when the mobility differs; bad values a
 
 TEST_CASE("redundant: a loop that cannot close is still a positioned error, in plane and out of plane") {
   const std::string text = problem_text("four_bar_revolute.toml");
-  const std::string d_point = "point = [0.45, 0.0, 0.0]";
-  const std::size_t at = text.find(d_point);
-  REQUIRE(at != std::string::npos);
-  const std::size_t joint_d = text.rfind("[[joints]]", at);
-  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(joint_d), '\n'));
-  for (const std::string moved : {"point = [0.451, 0.0, 0.0]", "point = [0.45, 0.001, 0.0]"}) {
-    CAPTURE(moved);
-    std::string t2 = text;
-    t2.replace(at, d_point.size(), moved);
+  const std::size_t joint_d = text.find("name = \"D\"");
+  REQUIRE(joint_d != std::string::npos);
+  const int line = static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(joint_d), '\n'));
+  // D's point on the ground moved: in the plane (a kept row misses) and out
+  // of it (only D.y, a row set aside, misses).
+  for (const Vec3 moved : {Vec3(1e-3, 0, 0), Vec3(0, 1e-3, 0)}) {
+    CAPTURE(moved.transpose());
+    Scene s = io::parse_scene(text, "fb.toml");
+    REQUIRE(s.multibody->joints[3].body_b == kGround);
+    s.multibody->joints[3].point_b += moved;
     std::string msg = "no error";
     try {
-      MultibodyProblem p(io::parse_scene(t2, "fb.toml"));
+      MultibodyProblem p(s);
     } catch (const InputError& e) {
       msg = e.what();
     }
-    CHECK(msg.find("fb.toml:") == 0);
-    CHECK(msg.find("error: joint '") != std::string::npos);
-    CHECK(msg.find("miss") != std::string::npos);
     MESSAGE(msg);
-    (void)line;
+    CHECK(msg.find(fmt::format("fb.toml:{}:1: error: joint 'D' (revolute) row '", line)) == 0);
+    CHECK(msg.find("miss the joint by 0.001") != std::string::npos);
   }
 }
 
@@ -257,4 +268,36 @@ TEST_CASE("redundant: summary.json names the rows set aside, the mobility and th
   CHECK(j2["reactions_determined"] == true);
   CHECK(j2["redundant_rows"].empty());
   CHECK(j2["mobility"]["gruebler_dof"] == 1);
+}
+
+TEST_CASE("redundant: Bricard's 6R loop has mobility 1 from the rank, 0 by Gruebler-Kutzbach, and runs") {
+  const Scene s = io::load_scene(problem_path("bricard.toml").string());
+  MultibodyProblem p(s);
+  const multibody::RedundancyReport& r = p.redundancy();
+  CHECK(r.joint_rows == 30);
+  CHECK(r.rank == 29);
+  CHECK(r.rank_dof == 1);
+  CHECK(r.gruebler_dof == 0);
+  CHECK(r.dropped.size() == 1);
+  // Rank 29 at the nearby poses too: redundancy, not a singular start.
+  CHECK_FALSE(r.singular_start);
+  CHECK(r.nearby_rank == 29);
+  CHECK(r.mobility_warning.empty());  // the scene says expected_dof = 1
+  // Gravity drives the one freedom; energy is conserved and the row set
+  // aside, implied only on the constraint manifold, drifts like the others.
+  for (const char* scheme : {"ggl", "index2", "projection"}) {
+    CAPTURE(std::string(scheme));
+    Scene t = s;
+    t.formulation.scheme = scheme;
+    const Trace tr = run(t, 0.5, 1e-9);
+    REQUIRE(tr.status == RunStatus::Success);
+    double phi = 0.0, energy = 0.0;
+    for (std::size_t i = 0; i < tr.t.size(); ++i) {
+      phi = std::max(phi, tr.dropped_phi[i]);
+      energy = std::max(energy, std::abs(tr.energy[i] - tr.energy[0]));
+    }
+    MESSAGE("bricard " << std::string(scheme) << ": dropped row |Phi| " << phi << ", |energy change| " << energy << " J");
+    CHECK(phi < 1e-6);
+    CHECK(energy < 1e-5);
+  }
 }
