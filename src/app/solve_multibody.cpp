@@ -154,6 +154,35 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
         {"initial_energy", recorder.initial_energy()}}},
       {"columns_units", recorder.step_units()},
   });
+  // Redundant constraints and mobility (multibody_problem.hpp, "Redundant
+  // constraints"): one block, so that renames elsewhere merge cleanly.
+  {
+    const multibody::RedundancyReport& rr = problem.redundancy();
+    nlohmann::json rows = nlohmann::json::array(), joints = nlohmann::json::array();
+    for (int k = 0; k < static_cast<int>(rr.dropped.size()); ++k)
+      rows.push_back({{"joint", scene.multibody->joints[rr.dropped[k].joint].name},
+                      {"row", rr.dropped[k].row},
+                      {"source", problem.dropped_row_source(k)}});
+    for (int jt : rr.indeterminate_joints) joints.push_back(scene.multibody->joints[jt].name);
+    const auto& expected = scene.multibody->expected_dof;
+    j["mobility"] = {{"rank_dof", rr.rank_dof},
+                     {"gruebler_dof", rr.gruebler_dof},
+                     {"redundant_rows", rr.dropped.size()},
+                     {"rank", rr.rank},
+                     {"rows", rr.rows},
+                     {"velocities", rr.velocities},
+                     {"expected_dof", expected ? nlohmann::json(*expected) : nlohmann::json(nullptr)},
+                     {"singular_start", rr.singular_start}};
+    j["redundant_rows"] = rows;
+    j["reactions_determined"] = rr.indeterminate_joints.empty();
+    j["reactions_indeterminate_joints"] = joints;
+    j["reactions_method"] = "multipliers of the independent rows (a particular solution; the rows set aside carry none)";
+    if (!rr.mobility_warning.empty())
+      j["warnings"].push_back({{"quantity", "mobility"}, {"message", rr.mobility_warning}});
+    o.note += fmt::format("; mobility {} (rank), {} (Gruebler-Kutzbach)", rr.rank_dof, rr.gruebler_dof);
+    if (!rr.dropped.empty()) o.note += fmt::format(", {} redundant rows set aside", rr.dropped.size());
+    j["note"] = o.note;
+  }
   o.start_warnings = problem.warnings();  // printed by the command (solve: each run; compare: once)
   try {
     write_file_atomically(out_dir / "summary.json", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");

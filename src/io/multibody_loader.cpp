@@ -46,9 +46,11 @@ namespace {
 // The schema
 // ---------------------------------------------------------------------------
 
-constexpr std::array<std::string_view, 14> kRootKeys{
-    "schema_version", "name",    "description", "start_tolerance", "reference", "bodies",  "joints",
-    "springs",        "loads",   "gravity",     "time",            "output",      "formulation", "solver"};
+constexpr std::array<std::string_view, 16> kRootKeys{
+    "schema_version", "name",    "description", "start_tolerance", "reference",   "bodies",  "joints",
+    "springs",        "loads",   "gravity",     "time",            "output",      "formulation", "solver",
+    "expected_dof",   "mechanism"};
+constexpr std::array<std::string_view, 1> kMechanismKeys{"expected_dof"};
 constexpr std::array<std::string_view, 14> kBodyKeys{
     "name",     "mass",  "inertia_principal", "inertia",    "inertia_axes", "position",         "quaternion",
     "euler",    "matrix", "axis_angle",       "velocity",   "angular_velocity", "angular_velocity_frame",
@@ -65,8 +67,9 @@ constexpr std::array<std::string_view, 4> kLoadKeys{"body", "force", "torque", "
 constexpr std::array<std::string_view, 2> kOutputPartKeys{"bodies", "joints"};
 
 // Schema 2's own tables; the shared ones are added from scene_loader.cpp.
-const std::array<SectionKeys, 7> kOwnSections{{
+const std::array<SectionKeys, 8> kOwnSections{{
     {"", kRootKeys},
+    {"mechanism", kMechanismKeys},
     {"bodies", kBodyKeys},
     {"bodies.euler", kEulerKeys},
     {"bodies.axis_angle", kAxisAngleKeys},
@@ -237,6 +240,7 @@ class MultibodyReader {
                                                 "projected with a warning, e.g. 1e-6)");
 
     read_bodies(spec);
+    read_expected_dof(spec);
     read_gravity(r_, root_, scene);
     spec.gravity_W = scene.gravity_W;
     read_joints(spec);
@@ -465,6 +469,37 @@ class MultibodyReader {
       body_names_.push_back(b.name);
       spec.bodies.push_back(std::move(b));
     }
+  }
+
+  // --- mechanism -------------------------------------------------------------
+
+  // expected_dof: at the top level or in [mechanism] (not both). The
+  // mobility the author expects; the start warns when the rank's differs.
+  void read_expected_dof(MultibodySpec& spec) {
+    const toml::node* top = root_.get("expected_dof");
+    const toml::node* in_table = nullptr;
+    if (const toml::node* m = root_.get("mechanism")) {
+      const toml::table* t = m->as_table();
+      if (!t)
+        r_.fail(*m, fmt::format("'mechanism' must be a table ([mechanism] with expected_dof = N), not {}",
+                                type_name(*m)));
+      r_.check_keys(*t, "mechanism", kMechanismKeys, sections());
+      in_table = t->get("expected_dof");
+      if (top && in_table)
+        r_.fail(*in_table, fmt::format("expected_dof is given twice: at the top level (line {}) and in [mechanism]; "
+                                       "keep one",
+                                       top->source().begin.line));
+    }
+    const toml::node* n = top ? top : in_table;
+    if (!n) return;
+    const std::string name = top ? "expected_dof" : "mechanism.expected_dof";
+    const long long v = r_.integer(*n, name);
+    const long long most = 6 * static_cast<long long>(spec.bodies.size());
+    if (v < 0 || v > most)
+      r_.fail(*n, fmt::format("'{}' = {} must lie in [0, {}] (degrees of freedom: at most 6 per body, {} bodies)",
+                              name, v, most, spec.bodies.size()));
+    spec.expected_dof = static_cast<int>(v);
+    spec.expected_dof_where = where(*n);
   }
 
   // --- joints ----------------------------------------------------------------

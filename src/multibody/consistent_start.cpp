@@ -25,6 +25,7 @@
 #include <cmath>
 
 #include "rigidae/core/error.hpp"
+#include "rigidae/multibody/joints.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
 
 namespace rigidae::multibody {
@@ -262,18 +263,7 @@ void MultibodyProblem::make_consistent(double t, Eigen::VectorXd& y, Eigen::Vect
 void MultibodyProblem::start(const Scene& scene) {
   const double t0 = scene.time.start;
   y0_.setZero(n_);
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    const BodySpec& bs = spec_.bodies[i];
-    const BodyModel& b = bodies_[i];
-    VecQ q;
-    VecV v;
-    b.rep->from_physical(bs.R0_WB, bs.omega0_B, q, v);
-    const int qo = groups_[b.q_group].offset, vo = groups_[b.v_group].offset;
-    y0_.segment(qo, 3) = bs.x0_W;
-    y0_.segment(qo + 3, b.nqr) = q;
-    y0_.segment(vo, 3) = bs.v0_W;
-    y0_.segment(vo + 3, b.nvr) = v;
-  }
+  physical_start(y0_);
   // A start error about one row, in the loaders' form "FILE:LINE:COL: error:
   // joint ..." when row_label put the joint's position in front.
   const auto row_error = [&](int block, int row) {
@@ -298,50 +288,29 @@ void MultibodyProblem::start(const Scene& scene) {
       if (miss > worst) worst = miss, worst_row = row_label(j, r);
     }
   }
-  // Redundant rows: a rank-revealing QR of G^T (columns = constraint rows).
-  // SuiteSparseQR (multifrontal, fill-reducing ordering): Eigen's SparseQR
-  // took 3 s of a 1000-link chain's start, SPQR takes milliseconds; both set
-  // aside the columns whose remaining norm falls below the threshold.
-  {
-    Sparse G;
-    Eigen::VectorXd phi;
-    std::vector<int> row_block, row_index;
-    constraint_matrices(G, phi, &row_block, &row_index);
-    if (G.rows() > 0) {
-      const Eigen::SparseMatrix<double, Eigen::ColMajor, SuiteSparse_long> Gt = G.transpose();
-      Eigen::SPQR<Eigen::SparseMatrix<double, Eigen::ColMajor, SuiteSparse_long>> qr;
-      const double scale = std::max(1.0, Gt.coeffs().cwiseAbs().maxCoeff());
-      qr.setPivotThreshold(1e-10 * scale);
-      qr.compute(Gt);
-      if (qr.info() != Eigen::Success)
-        throw InputError("the rank check of the joints' constraint rows failed (SuiteSparseQR could not factorise G^T)");
-      const int rank = static_cast<int>(qr.rank());
-      if (rank < G.rows()) {
-        // One line, positioned at the first dependent row's joint, the rows
-        // listed after it (as every other scene error: file, line, column).
-        // SPQR's colsPermutation() is a temporary (a map over its own
-        // array): keep a copy, not a reference into it (AddressSanitizer
-        // found the dangling reference).
-        const Eigen::Matrix<SuiteSparse_long, Eigen::Dynamic, 1> perm = qr.colsPermutation().indices();
-        constexpr int kRowsListed = 8;
-        std::string rows;
-        for (int k = rank; k < G.rows() && k < rank + kRowsListed; ++k) {
-          const int i = static_cast<int>(perm(k));
-          rows += (k == rank ? "" : "; ") + row_label(row_block[i], row_index[i]);
-        }
-        if (G.rows() - rank > kRowsListed) rows += fmt::format("; and {} more", G.rows() - rank - kRowsListed);
-        const int first = static_cast<int>(perm(rank));
-        throw InputError(fmt::format(
-            "{}: {} of the {} constraint rows depend on the others at the start (the mechanism is overconstrained, "
-            "e.g. a closed loop of revolute joints): its reactions are not unique and the saddle-point system is "
-            "singular. Dependent rows: {}. Replace a joint by one with fewer rows (a revolute by a universal or "
-            "spherical joint) so that these rows go.",
-            row_error(row_block[first], row_index[first]), G.rows() - rank, G.rows(), rows));
-      }
+  // Rows set aside as redundant (redundancy.cpp): a loop that cannot close
+  // may show only in them.
+  for (int k = 0; k < static_cast<int>(redundancy_.dropped.size()); ++k) {
+    const RedundantRow& d = redundancy_.dropped[k];
+    const JointSpec& js = spec_.joints[d.joint];
+    BlockSides sides;
+    sides.body[0] = js.body_a;
+    sides.body[1] = js.body_b;
+    for (int x = 0; x < 2; ++x) sides.state[x] = sides.body[x] == kGround ? nullptr : &work_[sides.body[x]].st;
+    evaluate_rows(&d.constraint, 1, sides, *dropped_eval_);
+    const double miss = std::abs(dropped_eval_->phi(0));
+    if (miss > spec_.start_tolerance) {
+      const std::string src = dropped_row_source(k);
+      throw InputError(fmt::format("{}joint '{}' ({}) row '{}': the initial poses miss the joint by {:.3g} (more "
+                                   "than start_tolerance {:g}); place the bodies so that the joint holds, or raise "
+                                   "start_tolerance",
+                                   src.empty() ? "" : src + ": error: ", js.name, joint_type_name(js.type), d.row,
+                                   miss, spec_.start_tolerance));
     }
   }
   Eigen::VectorXd v_before = y0_;
   project(t0, y0_, yp0_);
+  check_redundant_rows(t0);
   if (worst > 1e-12)
     warnings_.push_back(fmt::format("{}: the initial poses missed the joint by {:.3g}; projected onto the joints",
                                     worst_row, worst));
@@ -383,6 +352,9 @@ std::pair<double, double> MultibodyProblem::drift(double t, const double* y) {
         vel = std::max(vel, std::abs(e.phi_q[0].row(r).tail(w.st.nqr).dot(w.terms.qdot)));
     }
   }
+  const auto [dpos, dvel] = dropped_drift(y);  // implied by the kept rows: drift like them
+  pos = std::max(pos, dpos);
+  vel = std::max(vel, dvel);
   drift_memo_valid_ = true;
   drift_memo_t_ = t;
   std::copy(y, y + n_, drift_memo_y_.data());

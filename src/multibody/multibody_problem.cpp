@@ -77,6 +77,27 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
     nv_total_ += 3 + b.nvr;
   }
 
+  work_.resize(bodies_.size());
+  for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) {
+    work_[i].st.lagrange = scene.formulation.equations == Equations::Lagrange;
+    work_[i].st.nqr = bodies_[i].nqr;
+    work_[i].st.nvr = bodies_[i].nvr;
+  }
+  // The joints' rows, less those the rank analysis sets aside (redundant).
+  std::vector<std::vector<ConstraintRow>> rows_of_joint;
+  for (const JointSpec& js : spec_.joints) rows_of_joint.push_back(joint_rows(js));
+  find_redundant_rows(scene, rows_of_joint);
+  if (spec_.expected_dof && *spec_.expected_dof != redundancy_.rank_dof) {
+    const SourcePosition& w = spec_.expected_dof_where;
+    redundancy_.mobility_warning = fmt::format(
+        "{}expected_dof = {}, but the mechanism's mobility is {} (velocities {} minus the rank {} of the constraint "
+        "rows; Gruebler-Kutzbach count {}, {} redundant rows)",
+        w.file.empty() ? "" : fmt::format("{}:{}:{}: ", w.file, w.line, w.column), *spec_.expected_dof,
+        redundancy_.rank_dof, redundancy_.velocities, redundancy_.rank, redundancy_.gruebler_dof,
+        redundancy_.dropped.size());
+    warnings_.push_back(redundancy_.mobility_warning);
+  }
+
   const auto add_groups = [&](ConstraintBlock& blk) {
     const KindRows& k = blk.kind == ConstraintKind::Force ? scheme_.force : scheme_.kinematic;
     blk.lambda_rows = k.lambda_rows;
@@ -110,8 +131,9 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
     ConstraintBlock blk;
     blk.joint = j;
     blk.kind = ConstraintKind::Force;
-    blk.rows = joint_rows(js);
+    blk.rows = std::move(rows_of_joint[j]);
     blk.nr = static_cast<int>(blk.rows.size());
+    if (blk.nr == 0) continue;  // every row redundant: no multipliers
     for (const ConstraintRow& r : blk.rows) blk.row_names.push_back(r.name);
     blk.body_of_side[0] = js.body_a;
     blk.body_of_side[1] = js.body_b;
@@ -127,12 +149,6 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
   n_ = offset;
   drift_memo_y_.resize(n_);
 
-  work_.resize(bodies_.size());
-  for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) {
-    work_[i].st.lagrange = scene.formulation.equations == Equations::Lagrange;
-    work_[i].st.nqr = bodies_[i].nqr;
-    work_[i].st.nvr = bodies_[i].nvr;
-  }
   block_eval_.resize(blocks_.size());
   torsions_ = torsion_springs(spec_);
   sink_ = std::make_unique<JacobianSink>(groups_);

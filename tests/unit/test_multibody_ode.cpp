@@ -27,6 +27,8 @@
 #include "rigidae/so3/rotation.hpp"
 #include "test_multibody_scenes.hpp"
 
+TEST_SUITE_BEGIN("system");
+
 using namespace rigidae;
 using multibody::MultibodyOde;
 using multibody::MultibodyProblem;
@@ -310,3 +312,5 @@ TEST_CASE("multibody ode cli: Euler-angle chart switches of the spinning top hap
   CHECK(g.angle < 1e-5);
   CHECK(g.position < 1e-5 * g.length);
 }
+
+TEST_SUITE_END();

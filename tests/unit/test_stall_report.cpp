@@ -9,6 +9,8 @@
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
 
+TEST_SUITE_BEGIN("unit");
+
 using rigidae::multibody::MultibodyProblem;
 
 TEST_CASE("stall report: a mechanism at a regular state names its scheme and full-rank rows") {
@@ -24,3 +26,5 @@ TEST_CASE("stall report: a mechanism at a regular state names its scheme and ful
     CHECK(text.find("lost rank") == std::string::npos);
   }
 }
+
+TEST_SUITE_END();

@@ -103,6 +103,10 @@ struct MultibodySpec {
   // into bodies / joints, in the scene's order); unset: the default
   // (model/recorded_parts.hpp).
   std::optional<std::vector<int>> output_bodies, output_joints;
+  // The mobility the author expects (scene key expected_dof, top level or
+  // [mechanism]); a start whose rank mobility differs warns.
+  std::optional<int> expected_dof;
+  SourcePosition expected_dof_where;
 };
 
 }  // namespace rigidae

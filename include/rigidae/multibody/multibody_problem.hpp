@@ -25,14 +25,34 @@
 // mass metric, then (v', lambda) come from [M G^T; G 0].
 //
 // Redundant constraints (an overconstrained closed loop, e.g. a planar
-// four-bar of four revolute joints) make [M G^T; G 0] singular. Decision: the
-// start factors G^T with a rank-revealing (column-pivoted) sparse QR, and
-// dependent rows are an InputError naming each one (joint, row, file:line:col)
-// before anything runs: a silent wrong answer is not possible, and the user
-// replaces a joint by one with fewer rows (a revolute by a universal or a
-// spherical joint) to remove the redundancy. A configuration reached later
-// where the rank drops makes Newton's matrix singular: IDA then fails with
-// its message (not detected in advance).
+// four-bar of four revolute joints: 20 rows, rank 17) are accepted, as MSC
+// Adams does: before the layout is built, the Force rows (the joints' and the
+// Lagrange form's internal rows) are evaluated at the given poses and G^T is
+// factored by SuiteSparseQR (rank-revealing: a column whose remaining norm
+// falls below the threshold is set aside). Rows are first scaled to common
+// units: point rows (metres) are divided by the scene's length L, the
+// largest joint-point offset from a body's centre of mass (1 m when there is
+// none); angular rows are dimensionless. The threshold is 1e-9 times the
+// largest |R_kk| of a first factorisation. The joints' rows set aside are
+// dropped from their blocks (redundancy().dropped, named per joint with the
+// joint's file:line:col): the DAE is just smaller, so every scheme and
+// representation runs unchanged; the kept rows' multipliers carry the whole
+// load (the particular solution of the independent subset: the reactions of
+// the joints in the dependency, redundancy().indeterminate_joints, are not
+// determined by the constraints and are reported as computed). A dropped
+// row's Phi and G v are still monitored (drift(), joint_residuals()): they
+// are implied by the kept rows and stay at the integration error. After the
+// start's projection a dropped row that misses by more than start_tolerance
+// is an error (the loop cannot close in that direction).
+// Singular start: the rank is measured again at two nearby poses (the start
+// moved along its velocity and along a random admissible velocity by about
+// 1% of L, each projected back onto the kept rows). Rank loss that persists
+// there is redundancy; rank loss only at the start is a singular pose, and a
+// warning says the assembly branch is ambiguous (the dropped rows then hold
+// only through the drift monitor).
+// Mobility: rank_dof = velocities - rank of the Force rows (6 per body in the
+// Euler form), beside Gruebler-Kutzbach 6 n - sum of the joints' rows; a
+// scene's expected_dof that differs from rank_dof is a warning.
 #include <memory>
 #include <string>
 #include <vector>
@@ -90,6 +110,28 @@ struct JointReaction {
   Vec3 torque = Vec3::Zero();
 };
 
+// The start's rank analysis (see the opening comment).
+struct RedundantRow {
+  int joint = -1;
+  std::string row;       // the row's name, e.g. "axis_n1"
+  ConstraintRow constraint;
+};
+struct RedundancyReport {
+  int velocities = 0;    // absolute velocity coordinates (6 per body in the Euler form)
+  int rows = 0;          // Force rows before the drop (internal and joints)
+  int joint_rows = 0;    // the joints' rows before the drop
+  int rank = 0;          // of the scaled Force rows at the start
+  int rank_dof = 0;      // velocities - rank
+  int gruebler_dof = 0;  // 6 bodies - joint_rows
+  double length_scale = 1.0;  // L (m): point rows divided by it
+  double threshold = 0.0;     // of the rank decision (scaled units)
+  std::vector<RedundantRow> dropped;
+  std::vector<int> indeterminate_joints;  // joints whose reactions the constraints do not determine
+  bool singular_start = false;            // rank loss only at the start pose
+  int nearby_rank = -1;                   // the largest rank at the nearby poses (-1: not measured)
+  std::string mobility_warning;           // expected_dof differs from rank_dof (also in warnings())
+};
+
 class MultibodyProblem final : public DaeProblem {
  public:
   // scene.multibody must hold the validated spec. Throws InputError for a
@@ -123,6 +165,12 @@ class MultibodyProblem final : public DaeProblem {
   const std::vector<UnknownGroup>& groups() const { return groups_; }
   const BlockScheme& scheme() const { return scheme_; }
   const MultibodySpec& spec() const { return spec_; }
+  // The start's rank analysis: redundant rows set aside, mobility.
+  const RedundancyReport& redundancy() const { return redundancy_; }
+  // "JOINT.ROW" of a dropped row, with the joint's file:line:col.
+  std::string dropped_row_source(int k) const;
+  // Largest |Phi| and |G v| of the dropped rows at y (0 when none).
+  std::pair<double, double> dropped_drift(const double* y);
   // Warnings of the start (projected misses and velocities), for the report.
   const std::vector<std::string>& warnings() const { return warnings_; }
 
@@ -206,6 +254,15 @@ class MultibodyProblem final : public DaeProblem {
   void constraint_matrices(Eigen::SparseMatrix<double>& G, Eigen::VectorXd& phi, std::vector<int>* row_block,
                            std::vector<int>* row_index) const;
   void start(const Scene& scene);
+  // Before the layout: the rank of the Force rows at the given poses, the
+  // rows set aside (removed from rows[joint]), mobility.
+  void find_redundant_rows(const Scene& scene, std::vector<std::vector<ConstraintRow>>& rows);
+  // Rank of the scaled Force rows (internal, kept and dropped) at y.
+  int full_rank(double t, const double* y);
+  // After the start's projection: dropped rows' misses, nearby poses.
+  void check_redundant_rows(double t0);
+  // The body states at the given poses (the bodies' q and v of y, size n_state_ at least).
+  void physical_start(Eigen::VectorXd& y) const;
   bool change_charts(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp, bool force_check);
   std::string row_label(int block, int row) const;
 
@@ -232,6 +289,9 @@ class MultibodyProblem final : public DaeProblem {
   BlockEval torsion_eval_;
   Eigen::VectorXd y0_, yp0_;
   std::vector<std::string> warnings_;
+  RedundancyReport redundancy_;
+  std::vector<std::vector<int>> dropped_of_joint_;  // indices into redundancy_.dropped
+  std::unique_ptr<BlockEval> dropped_eval_;
   std::vector<EventNote> events_;
   const double* evaluated_y_ = nullptr;  // output_row: the bodies are evaluated at this y
   // drift()'s last answer and the (t, y) it was for (y copied: the driver

@@ -1,0 +1,368 @@
+// Redundant constraint rows and mobility at the start (see the opening
+// comment of multibody_problem.hpp, "Redundant constraints").
+//
+// The rank decision: S G^T, S scaling the point rows by 1/L (L the largest
+// joint-point offset from a body's centre of mass), factored by SuiteSparseQR
+// (column = constraint row). SPQR sets aside a column whose norm, after the
+// earlier columns' Householder reflections, is at most its threshold; that
+// threshold is 1e-9 max_k |R_kk| of a first factorisation with SPQR's own
+// default (20 (m + n) eps max column norm). Exact dependencies (a planar
+// loop's out-of-plane rows) leave columns at ~1e-16; a pose at 1e-9 of a
+// singular one is taken as singular.
+//
+// Indeterminate reactions: each set-aside column g_d is a combination of the
+// kept ones, G_I^T alpha = g_d (least squares on the kept columns, full
+// rank). Adding t (alpha, -1) to the multipliers leaves G^T lambda unchanged
+// for every t, so every joint with a non-zero entry of (alpha, -1) has
+// reactions the constraints do not determine.
+#include <Eigen/SPQRSupport>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <random>
+#include <set>
+
+#include "rigidae/core/error.hpp"
+#include "rigidae/multibody/joints.hpp"
+#include "rigidae/multibody/multibody_problem.hpp"
+
+namespace rigidae::multibody {
+
+namespace {
+
+using SparseL = Eigen::SparseMatrix<double, Eigen::ColMajor, SuiteSparse_long>;
+using Triplet = Eigen::Triplet<double, SuiteSparse_long>;
+
+constexpr double kRankRelTol = 1e-9;  // of max |R_kk|
+constexpr double kNearbyStep = 1e-2;  // of L (and rad): how far the nearby poses lie
+
+bool is_point_row(const ConstraintRow& r) {
+  for (int t = 0; t < r.n_terms; ++t)
+    if (r.terms[t].a.point || r.terms[t].b.point) return true;
+  return false;
+}
+
+struct Rank {
+  int rank = 0;
+  double rmax = 0.0;
+  std::vector<int> perm;  // columns in SPQR's order; perm[rank..] set aside
+};
+
+// threshold < 0: SPQR's default. fixed: the columns in their order (no
+// fill-reducing permutation), so the later of dependent columns are set aside.
+Rank spqr_rank(const SparseL& Gt, double threshold, bool fixed = false) {
+  Rank out;
+  if (Gt.cols() == 0) return out;
+  Eigen::SPQR<SparseL> qr;
+  if (threshold >= 0.0) qr.setPivotThreshold(threshold);
+  if (fixed) qr.setSPQROrdering(SPQR_ORDERING_FIXED);
+  qr.compute(Gt);
+  if (qr.info() != Eigen::Success)
+    throw InputError("the rank check of the joints' constraint rows failed (SuiteSparseQR could not factorise G^T)");
+  out.rank = static_cast<int>(qr.rank());
+  // SPQR's colsPermutation() is a temporary: copy it (see git log: ASan).
+  const Eigen::Matrix<SuiteSparse_long, Eigen::Dynamic, 1> perm = qr.colsPermutation().indices();
+  out.perm.assign(perm.data(), perm.data() + perm.size());
+  const SparseL R = qr.matrixR();
+  for (int k = 0; k < out.rank && k < R.rows() && k < R.cols(); ++k)
+    out.rmax = std::max(out.rmax, std::abs(R.coeff(k, k)));
+  return out;
+}
+
+}  // namespace
+
+// One Force row: a body's internal row (body >= 0, joint < 0) or a joint's.
+struct ForceRowRef {
+  int body = -1, joint = -1, index = 0;
+  const ConstraintRow* row = nullptr;
+};
+
+namespace {
+
+// S G^T over all velocities at the last evaluate().
+SparseL scaled_transpose(const std::vector<ForceRowRef>& rows, const std::vector<BodyModel>& bodies,
+                         const std::vector<int>& velocity_offset, int nv_total,
+                         const std::function<const BodyState*(int)>& state,
+                         const std::function<const MatCV*(int)>& internal_G, double L, BlockEval& e) {
+  std::vector<Triplet> trip;
+  for (int c = 0; c < static_cast<int>(rows.size()); ++c) {
+    const ForceRowRef& f = rows[c];
+    if (f.joint < 0) {
+      const MatCV& G = *internal_G(f.body);
+      const int o = velocity_offset[f.body] + 3;
+      for (int k = 0; k < bodies[f.body].nvr; ++k)
+        if (G(f.index, k) != 0.0) trip.emplace_back(o + k, c, G(f.index, k));
+      continue;
+    }
+    BlockSides sides;
+    // The row's bodies: those its vectors live on.
+    int side_body[2] = {kGround, kGround};
+    int n = 0;
+    for (int t = 0; t < f.row->n_terms; ++t)
+      for (const BodyVector* v : {&f.row->terms[t].a, &f.row->terms[t].b})
+        if (v->body != kGround && v->body != side_body[0] && v->body != side_body[1] && n < 2)
+          side_body[n++] = v->body;
+    for (int x = 0; x < 2; ++x) {
+      sides.body[x] = side_body[x];
+      sides.state[x] = side_body[x] == kGround ? nullptr : state(side_body[x]);
+    }
+    evaluate_rows(f.row, 1, sides, e);
+    const double s = is_point_row(*f.row) ? 1.0 / L : 1.0;
+    for (int x = 0; x < 2; ++x) {
+      if (side_body[x] == kGround) continue;
+      for (int k = 0; k < e.G[x].cols(); ++k)
+        if (e.G[x](0, k) != 0.0) trip.emplace_back(velocity_offset[side_body[x]] + k, c, s * e.G[x](0, k));
+    }
+  }
+  SparseL Gt(nv_total, static_cast<SuiteSparse_long>(rows.size()));
+  Gt.setFromTriplets(trip.begin(), trip.end());
+  Gt.makeCompressed();
+  return Gt;
+}
+
+}  // namespace
+
+void MultibodyProblem::physical_start(Eigen::VectorXd& y) const {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const BodySpec& bs = spec_.bodies[i];
+    const BodyModel& b = bodies_[i];
+    VecQ q;
+    VecV v;
+    b.rep->from_physical(bs.R0_WB, bs.omega0_B, q, v);
+    const int qo = groups_[b.q_group].offset, vo = groups_[b.v_group].offset;
+    y.segment(qo, 3) = bs.x0_W;
+    y.segment(qo + 3, b.nqr) = q;
+    y.segment(vo, 3) = bs.v0_W;
+    y.segment(vo + 3, b.nvr) = v;
+  }
+}
+
+std::string MultibodyProblem::dropped_row_source(int k) const {
+  const JointSpec& j = spec_.joints[redundancy_.dropped[k].joint];
+  if (j.where.file.empty() && j.where.line == 0) return "";
+  return fmt::format("{}:{}:{}", j.where.file, j.where.line, j.where.column);
+}
+
+namespace {
+
+std::vector<ForceRowRef> internal_force_rows(const std::vector<BodyModel>& bodies) {
+  std::vector<ForceRowRef> rows;
+  for (int i = 0; i < static_cast<int>(bodies.size()); ++i)
+    if (bodies[i].rep->nc() > 0 && bodies[i].rep->constraint_kind() == ConstraintKind::Force)
+      for (int r = 0; r < bodies[i].rep->nc(); ++r) rows.push_back({i, -1, r, nullptr});
+  return rows;
+}
+
+}  // namespace
+
+void MultibodyProblem::find_redundant_rows(const Scene& scene, std::vector<std::vector<ConstraintRow>>& rows) {
+  RedundancyReport& rep = redundancy_;
+  dropped_eval_ = std::make_unique<BlockEval>();
+  dropped_of_joint_.assign(spec_.joints.size(), {});
+  rep.velocities = nv_total_;
+  // L: the largest joint-point offset from a body's centre of mass.
+  double L = 0.0;
+  for (const JointSpec& j : spec_.joints) {
+    if (j.body_a != kGround) L = std::max(L, j.point_a.norm());
+    if (j.body_b != kGround) L = std::max(L, j.point_b.norm());
+  }
+  rep.length_scale = L > 0.0 ? L : 1.0;
+  std::vector<ForceRowRef> refs = internal_force_rows(bodies_);
+  for (int j = 0; j < static_cast<int>(rows.size()); ++j) {
+    rep.joint_rows += static_cast<int>(rows[j].size());
+    for (int r = 0; r < static_cast<int>(rows[j].size()); ++r) refs.push_back({-1, j, r, &rows[j][r]});
+  }
+  rep.rows = static_cast<int>(refs.size());
+  rep.gruebler_dof = 6 * static_cast<int>(bodies_.size()) - rep.joint_rows;
+  rep.rank_dof = nv_total_;
+  if (refs.empty()) return;
+
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(n_state_);
+  physical_start(y);
+  evaluate(scene.time.start, y.data(), 2);
+  const SparseL Gt = scaled_transpose(
+      refs, bodies_, velocity_offset_, nv_total_, [&](int b) { return &work_[b].st; },
+      [&](int b) { return &work_[b].terms.G; }, rep.length_scale, *dropped_eval_);
+  const Rank first = spqr_rank(Gt, -1.0);
+  rep.threshold = kRankRelTol * std::max(first.rmax, 1e-300);
+  Rank rk = spqr_rank(Gt, rep.threshold);
+  // The bodies' own rows come first: when the fill-reducing order sets one of
+  // them aside, factor again in the given order, which sets aside joint rows.
+  for (int k = rk.rank; k < static_cast<int>(rk.perm.size()); ++k)
+    if (refs[rk.perm[k]].joint < 0) {
+      rk = spqr_rank(Gt, rep.threshold, true);
+      break;
+    }
+  rep.rank = rk.rank;
+  rep.rank_dof = nv_total_ - rk.rank;
+  if (rk.rank == rep.rows) return;
+
+  // The rows set aside, in the scene's order.
+  std::vector<int> aside(rk.perm.begin() + rk.rank, rk.perm.end());
+  std::sort(aside.begin(), aside.end());
+  for (int c : aside)
+    if (refs[c].joint < 0)
+      throw InputError(fmt::format("body '{}': its own constraint row {} depends on the joints' rows at the start; "
+                                   "use coordinates without internal constraints (e.g. euler equations) for it",
+                                   bodies_[refs[c].body].name, refs[c].index));
+  // Indeterminate reactions: G_I^T alpha = g_d over the kept columns.
+  std::vector<char> is_aside(refs.size(), 0);
+  for (int c : aside) is_aside[c] = 1;
+  std::vector<int> kept;
+  for (int c = 0; c < rep.rows; ++c)
+    if (!is_aside[c]) kept.push_back(c);
+  std::set<int> indeterminate;
+  {
+    std::vector<Triplet> trip;
+    Eigen::MatrixXd D = Eigen::MatrixXd::Zero(nv_total_, static_cast<int>(aside.size()));
+    for (int k = 0; k < static_cast<int>(kept.size()); ++k)
+      for (SparseL::InnerIterator it(Gt, kept[k]); it; ++it) trip.emplace_back(it.row(), k, it.value());
+    for (int k = 0; k < static_cast<int>(aside.size()); ++k)
+      for (SparseL::InnerIterator it(Gt, aside[k]); it; ++it) D(it.row(), k) = it.value();
+    SparseL GI(nv_total_, static_cast<SuiteSparse_long>(kept.size()));
+    GI.setFromTriplets(trip.begin(), trip.end());
+    GI.makeCompressed();
+    Eigen::SPQR<SparseL> qr;
+    qr.compute(GI);
+    if (qr.info() == Eigen::Success && !kept.empty()) {
+      const Eigen::MatrixXd alpha = qr.solve(D);
+      for (int d = 0; d < alpha.cols(); ++d) {
+        indeterminate.insert(refs[aside[d]].joint);
+        for (int k = 0; k < alpha.rows(); ++k)
+          if (std::abs(alpha(k, d)) > 1e-8 && refs[kept[k]].joint >= 0) indeterminate.insert(refs[kept[k]].joint);
+      }
+    } else {
+      for (int c : aside) indeterminate.insert(refs[c].joint);
+    }
+  }
+  rep.indeterminate_joints.assign(indeterminate.begin(), indeterminate.end());
+  // Set the rows aside (highest index first within a joint).
+  std::vector<std::vector<int>> drop(rows.size());
+  for (int c : aside) drop[refs[c].joint].push_back(refs[c].index);
+  for (int j = 0; j < static_cast<int>(rows.size()); ++j)
+    for (int r : drop[j]) {
+      dropped_of_joint_[j].push_back(static_cast<int>(rep.dropped.size()));
+      rep.dropped.push_back({j, rows[j][r].name, rows[j][r]});
+    }
+  for (int j = 0; j < static_cast<int>(rows.size()); ++j) {
+    std::sort(drop[j].rbegin(), drop[j].rend());
+    for (int r : drop[j]) rows[j].erase(rows[j].begin() + r);
+  }
+  std::string list;
+  for (int k = 0; k < static_cast<int>(rep.dropped.size()); ++k) {
+    const RedundantRow& d = rep.dropped[k];
+    list += fmt::format("{}{}.{}", k ? ", " : "", spec_.joints[d.joint].name, d.row);
+  }
+  std::string joints;
+  for (int j : rep.indeterminate_joints) joints += (joints.empty() ? "" : ", ") + spec_.joints[j].name;
+  const std::string src = dropped_row_source(0);
+  warnings_.push_back(fmt::format(
+      "{}{} of the {} constraint rows are redundant at the start (rank {}): set aside and monitored as drift: {}; "
+      "the reactions of joints {} are not determined by the constraints (statically indeterminate: reported as the "
+      "kept rows' particular solution)",
+      src.empty() ? "" : src + ": ", rep.dropped.size(), rep.rows, rep.rank, list, joints));
+}
+
+int MultibodyProblem::full_rank(double t, const double* y) {
+  evaluate(t, y, 2);
+  std::vector<ForceRowRef> refs = internal_force_rows(bodies_);
+  for (const ConstraintBlock& b : blocks_)
+    if (!b.internal)
+      for (int r = 0; r < b.nr; ++r) refs.push_back({-1, b.joint, r, &b.rows[r]});
+  for (const RedundantRow& d : redundancy_.dropped) refs.push_back({-1, d.joint, 0, &d.constraint});
+  const SparseL Gt = scaled_transpose(
+      refs, bodies_, velocity_offset_, nv_total_, [&](int b) { return &work_[b].st; },
+      [&](int b) { return &work_[b].terms.G; }, redundancy_.length_scale, *dropped_eval_);
+  return spqr_rank(Gt, redundancy_.threshold).rank;
+}
+
+std::pair<double, double> MultibodyProblem::dropped_drift(const double* y) {
+  double pos = 0.0, vel = 0.0;
+  if (redundancy_.dropped.empty()) return {pos, vel};
+  if (y != evaluated_y_) evaluate(0.0, y, 2);
+  for (const RedundantRow& d : redundancy_.dropped) {
+    const JointSpec& js = spec_.joints[d.joint];
+    BlockSides sides;
+    sides.body[0] = js.body_a;
+    sides.body[1] = js.body_b;
+    for (int x = 0; x < 2; ++x) sides.state[x] = sides.body[x] == kGround ? nullptr : &work_[sides.body[x]].st;
+    evaluate_rows(&d.constraint, 1, sides, *dropped_eval_);
+    pos = std::max(pos, std::abs(dropped_eval_->phi(0)));
+    vel = std::max(vel, std::abs(dropped_eval_->Gv(0)));
+  }
+  return {pos, vel};
+}
+
+void MultibodyProblem::check_redundant_rows(double t0) {
+  if (redundancy_.dropped.empty()) return;
+  const double L = redundancy_.length_scale;
+  // The dropped rows after the projection onto the kept ones: implied, so
+  // they hold; a miss means the loop does not close in that direction.
+  for (int k = 0; k < static_cast<int>(redundancy_.dropped.size()); ++k) {
+    const RedundantRow& d = redundancy_.dropped[k];
+    const JointSpec& js = spec_.joints[d.joint];
+    evaluate(t0, y0_.data(), 2);
+    BlockSides sides;
+    sides.body[0] = js.body_a;
+    sides.body[1] = js.body_b;
+    for (int x = 0; x < 2; ++x) sides.state[x] = sides.body[x] == kGround ? nullptr : &work_[sides.body[x]].st;
+    evaluate_rows(&d.constraint, 1, sides, *dropped_eval_);
+    const double miss = std::abs(dropped_eval_->phi(0));
+    if (miss > spec_.start_tolerance) {
+      const std::string src = dropped_row_source(k);
+      throw InputError(fmt::format(
+          "{}joint '{}' ({}) row '{}': the loop does not close: this row, dependent on the others at the start and "
+          "set aside, misses by {:.3g} once the other rows hold (more than start_tolerance {:g}); place the bodies "
+          "so that the joint holds",
+          src.empty() ? "" : src + ": error: ", js.name, joint_type_name(js.type), d.row, miss, spec_.start_tolerance));
+    }
+  }
+  // Nearby poses: along the start's velocity and a random admissible one.
+  int nearby = -1;
+  std::mt19937_64 rng(20261126);
+  std::normal_distribution<double> normal;
+  for (int pass = 0; pass < 2; ++pass) {
+    Eigen::VectorXd y = y0_, yp = yp0_;
+    try {
+      if (pass == 1) {
+        for (std::size_t i = 0; i < bodies_.size(); ++i) {
+          const UnknownGroup& g = groups_[bodies_[i].v_group];
+          for (int k = 0; k < g.size; ++k) y(g.offset + k) = normal(rng) * (k < 3 ? L : 1.0);
+        }
+        project(t0, y, yp);
+      }
+      double s = 0.0;
+      for (const BodyModel& b : bodies_) {
+        const UnknownGroup& g = groups_[b.q_group];
+        s = std::max(s, yp.segment(g.offset, 3).norm() / L);
+        if (b.nqr > 0) s = std::max(s, yp.segment(g.offset + 3, b.nqr).cwiseAbs().maxCoeff());
+      }
+      if (!(s > 1e-12) || !std::isfinite(s)) continue;
+      const double h = kNearbyStep / s;
+      for (const BodyModel& b : bodies_) {
+        const UnknownGroup& g = groups_[b.q_group];
+        y.segment(g.offset, g.size) += h * yp.segment(g.offset, g.size);
+      }
+      project(t0, y, yp);
+      nearby = std::max(nearby, full_rank(t0, y.data()));
+    } catch (const std::runtime_error&) {
+      // A nearby pose the projection cannot reach says nothing: skip it.
+    }
+  }
+  evaluate(t0, y0_.data(), 2);
+  redundancy_.nearby_rank = nearby;
+  if (nearby > redundancy_.rank) {
+    redundancy_.singular_start = true;
+    const std::string src = dropped_row_source(0);
+    warnings_.push_back(fmt::format(
+        "{}singular start: the constraint rows have rank {} at the start but {} at nearby poses, so {} of the rows "
+        "set aside are dependent only at this pose (a dead-centre or flattened loop): the assembly branch is "
+        "ambiguous and the motion may leave the rows set aside (their drift is monitored); start off the singular "
+        "pose",
+        src.empty() ? "" : src + ": ", redundancy_.rank, nearby, nearby - redundancy_.rank));
+  }
+}
+
+}  // namespace rigidae::multibody
