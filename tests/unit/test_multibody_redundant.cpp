@@ -177,7 +177,7 @@ TEST_CASE("redundant: the revolute four-bar moves as the relaxed one, every IDA 
   }
 }
 
-TEST_CASE("redundant: expected_dof warns when the mobility differs; bad values are positioned errors") {
+TEST_CASE("redundant: expected_dof warns when the mobility differs, and bad values are positioned errors") {
   std::string text = problem_text("four_bar_revolute.toml");
   const std::string key = "expected_dof = 1";
   const std::size_t at = text.find(key);
