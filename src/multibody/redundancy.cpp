@@ -227,7 +227,11 @@ void MultibodyProblem::find_redundant_rows(const Scene& scene, std::vector<std::
     Eigen::SPQR<SparseL> qr;
     qr.compute(GI);
     if (qr.info() == Eigen::Success && !kept.empty()) {
-      const Eigen::MatrixXd alpha = qr.solve(D);
+      // Column by column: Eigen's SPQR solves one right-hand side at a time
+      // (a matrix is an assertion failure with assertions on, and without
+      // them only its first column is solved).
+      Eigen::MatrixXd alpha(static_cast<int>(kept.size()), D.cols());
+      for (int d = 0; d < D.cols(); ++d) alpha.col(d) = qr.solve(Eigen::VectorXd(D.col(d)));
       for (int d = 0; d < alpha.cols(); ++d) {
         indeterminate.insert(refs[aside[d]].joint);
         for (int k = 0; k < alpha.rows(); ++k)
