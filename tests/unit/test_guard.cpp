@@ -54,10 +54,9 @@ double rotation_angle(const json& a, const json& b) {
   return 4.0 * std::asin(std::min(1.0, std::sqrt(d2) / 2.0));
 }
 
-void check_run(const json& pin) {
-  const std::string name = pin["name"];
-  INFO("pinned run: " << name);
-  const auto dir = rigidae::test::fresh_temp_dir("guard-" + std::to_string(std::hash<std::string>{}(name)));
+// Runs a pinned run's command into dir; checks its exit code, status and
+// IDA's counters against the pin, and returns its summary.json.
+json run_pinned(const json& pin, const std::filesystem::path& dir) {
   std::string args = "solve " + std::string(RIGIDAE_SOURCE_DIR) + "/" + pin["scene"].get<std::string>() +
                      " --quiet --out " + dir.string();
   for (const auto& a : pin["args"]) args += " " + a.get<std::string>();
@@ -72,6 +71,14 @@ void check_run(const json& pin) {
     INFO("counter " << key);
     CHECK(s["counters"][key].get<long>() == value.get<long>());
   }
+  return s;
+}
+
+void check_run(const json& pin) {
+  const std::string name = pin["name"];
+  INFO("pinned run: " << name);
+  const auto dir = rigidae::test::fresh_temp_dir("guard-" + std::to_string(std::hash<std::string>{}(name)));
+  const json s = run_pinned(pin, dir);
   CHECK(s["chart_switch_count"].get<long>() == pin["chart_switch_count"].get<long>());
   CHECK(s["final"]["t"].get<double>() == pin["t"].get<double>());
   CHECK(rotation_angle(s["final"]["q_WB"], pin["q_WB"]) <= 1e-12);
@@ -94,20 +101,7 @@ void check_mechanism_run(const json& pin) {
   const std::string name = pin["name"];
   INFO("pinned mechanism run: " << name);
   const auto dir = rigidae::test::fresh_temp_dir("guard-mb-" + std::to_string(std::hash<std::string>{}(name)));
-  std::string args = "solve " + std::string(RIGIDAE_SOURCE_DIR) + "/" + pin["scene"].get<std::string>() +
-                     " --quiet --out " + dir.string();
-  for (const auto& a : pin["args"]) args += " " + a.get<std::string>();
-  const auto r = rigidae::test::run_cli(args);
-  INFO(r.output);
-  REQUIRE(r.exit_code == (pin["status"] == "success" ? 0 : 1));
-  std::ifstream in(dir / "summary.json");
-  REQUIRE(in.good());
-  const json s = json::parse(in);
-  CHECK(s["status"] == pin["status"]);
-  for (const auto& [key, value] : pin["counters"].items()) {
-    INFO("counter " << key);
-    CHECK(s["counters"][key].get<long>() == value.get<long>());
-  }
+  run_pinned(pin, dir);
   const auto row = last_row(dir / "trajectory.csv");
   CHECK(row.at("t") == pin["t"].get<double>());
   for (const auto& [body, state] : pin["bodies"].items()) {
