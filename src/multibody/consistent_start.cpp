@@ -293,12 +293,7 @@ void MultibodyProblem::start(const Scene& scene) {
   for (int k = 0; k < static_cast<int>(redundancy_.dropped.size()); ++k) {
     const RedundantRow& d = redundancy_.dropped[k];
     const JointSpec& js = spec_.joints[d.joint];
-    BlockSides sides;
-    sides.body[0] = js.body_a;
-    sides.body[1] = js.body_b;
-    for (int x = 0; x < 2; ++x) sides.state[x] = sides.body[x] == kGround ? nullptr : &work_[sides.body[x]].st;
-    evaluate_rows(&d.constraint, 1, sides, *dropped_eval_);
-    const double miss = std::abs(dropped_eval_->phi(0));
+    const double miss = dropped_row_miss(k);
     if (miss > spec_.start_tolerance) {
       const std::string src = dropped_row_source(k);
       throw InputError(fmt::format("{}joint '{}' ({}) row '{}': the initial poses miss the joint by {:.3g} (more "

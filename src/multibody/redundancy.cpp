@@ -304,16 +304,11 @@ void MultibodyProblem::check_redundant_rows(double t0) {
   const double L = redundancy_.length_scale;
   // The dropped rows after the projection onto the kept ones: implied, so
   // they hold; a miss means the loop does not close in that direction.
+  evaluate(t0, y0_.data(), 2);
   for (int k = 0; k < static_cast<int>(redundancy_.dropped.size()); ++k) {
     const RedundantRow& d = redundancy_.dropped[k];
     const JointSpec& js = spec_.joints[d.joint];
-    evaluate(t0, y0_.data(), 2);
-    BlockSides sides;
-    sides.body[0] = js.body_a;
-    sides.body[1] = js.body_b;
-    for (int x = 0; x < 2; ++x) sides.state[x] = sides.body[x] == kGround ? nullptr : &work_[sides.body[x]].st;
-    evaluate_rows(&d.constraint, 1, sides, *dropped_eval_);
-    const double miss = std::abs(dropped_eval_->phi(0));
+    const double miss = dropped_row_miss(k);
     if (miss > spec_.start_tolerance) {
       const std::string src = dropped_row_source(k);
       throw InputError(fmt::format(
@@ -367,6 +362,17 @@ void MultibodyProblem::check_redundant_rows(double t0) {
         "pose",
         src.empty() ? "" : src + ": ", redundancy_.rank, nearby, nearby - redundancy_.rank));
   }
+}
+
+double MultibodyProblem::dropped_row_miss(int k) {
+  const RedundantRow& d = redundancy_.dropped[k];
+  const JointSpec& js = spec_.joints[d.joint];
+  BlockSides sides;
+  sides.body[0] = js.body_a;
+  sides.body[1] = js.body_b;
+  for (int x = 0; x < 2; ++x) sides.state[x] = sides.body[x] == kGround ? nullptr : &work_[sides.body[x]].st;
+  evaluate_rows(&d.constraint, 1, sides, *dropped_eval_);
+  return std::abs(dropped_eval_->phi(0));
 }
 
 }  // namespace rigidae::multibody

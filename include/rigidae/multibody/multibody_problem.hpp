@@ -235,6 +235,8 @@ class MultibodyProblem final : public DaeProblem {
     StandardTerms terms;
     TermDerivatives derivs;
   };
+  // |Phi| of the k-th row set aside, at the bodies' last evaluate().
+  double dropped_row_miss(int k);
   void evaluate(double t, const double* y, int order);
   void evaluate_block(int j, const double* y, const double* yp);
   void differentiate_block(int j, const double* y, const double* yp);
