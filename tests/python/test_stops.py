@@ -274,11 +274,11 @@ def test_the_index_2_3_hint_is_only_for_runs_without_error_test_suppression(tmp_
 
 # --- study ----------------------------------------------------------------
 
-def small_study(tmp_path):
+def small_study(tmp_path, scene=FREE_BODY):
     path = tmp_path / "small.study.toml"
     path.write_text(f"""schema_version = 1
 name = "small"
-scenes = ["{FREE_BODY}"]
+scenes = ["{scene}"]
 reference = "exact"
 targets = [1e-3]
 
@@ -323,40 +323,57 @@ def test_study_resume_removes_temporary_folders_of_killed_runs(tmp_path):
     assert (final / "run.json").exists()
 
 
+def reachable_by_everyone(folder):
+    """True when every ancestor of folder lets other users pass (o+x)."""
+    folder = Path(folder).resolve()
+    return all(os.stat(p).st_mode & 0o001 for p in [folder, *folder.parents])
+
+
 @pytest.fixture
 def nobody_dir():
     """A folder that the unprivileged user 'nobody' can read but not write
-    (tests run as root, for whom permission bits do not apply)."""
-    base = Path(tempfile.mkdtemp(prefix="rigidae-ro-"))
+    (tests run as root, for whom permission bits do not apply). It must lie
+    where nobody can reach it: a checkout inside a private folder (mktemp -d
+    is mode 700) is not, so the CLI and the scenes are copied in as well."""
+    if os.geteuid() != 0:
+        pytest.skip("needs root to run as nobody")
+    places = [p for p in (tempfile.gettempdir(), "/tmp", "/var/tmp") if os.path.isdir(p) and reachable_by_everyone(p)]
+    if not places:
+        pytest.skip("no temporary folder that the user nobody can reach")
+    base = Path(tempfile.mkdtemp(prefix="rigidae-ro-", dir=places[0]))
     os.chmod(base, 0o755)
+    (base / "bin").mkdir()
+    shutil.copy2(CLI, base / "bin" / "rigidae")
+    for scene in (HEAVY_TOP, FREE_BODY):
+        shutil.copy2(scene, base / Path(scene).name)
     yield base
     for d, _, _ in os.walk(base):
         os.chmod(d, 0o755)
     shutil.rmtree(base)
 
 
-def run_as_nobody(*args):
-    if os.geteuid() != 0:
-        pytest.skip("needs root to run as nobody")
-    p = subprocess.run([CLI, *map(str, args)], capture_output=True, text=True, timeout=300, user=65534,
-                       group=65534, extra_groups=[])
+def run_as_nobody(base, *args):
+    p = subprocess.run([str(base / "bin" / "rigidae"), *map(str, args)], capture_output=True, text=True,
+                       timeout=300, user=65534, group=65534, extra_groups=[])
     return p.returncode, p.stdout, p.stderr
 
 
 def test_an_unwritable_output_folder_is_exit_2_for_every_command(nobody_dir):
-    study = small_study(nobody_dir)
+    heavy_top = nobody_dir / Path(HEAVY_TOP).name
+    free_body = nobody_dir / Path(FREE_BODY).name
+    study = small_study(nobody_dir, free_body)
     out = nobody_dir / "out"
     code, _, err = run_cli("study", study, "--out", out, "--quiet", "--no-plot")
     assert code == 0, err
     for d, _, _ in os.walk(nobody_dir):
         os.chmod(d, 0o555)
     results = {
-        "solve": run_as_nobody("solve", HEAVY_TOP, "--t-end", "0.01", "--out", out / "solve"),
-        "solve into the folder": run_as_nobody("solve", HEAVY_TOP, "--t-end", "0.01", "--out", out),
-        "compare": run_as_nobody("compare", FREE_BODY, "--t-end", "0.1", "--only", "quaternion/lagrange/ggl",
-                                 "--out", out),
-        "study run": run_as_nobody("study", "run", study, "--shard", "0/1", "--out", out / "again"),
-        "study collect": run_as_nobody("study", "collect", study, "--out", out, "--no-plot"),
+        "solve": run_as_nobody(nobody_dir, "solve", heavy_top, "--t-end", "0.01", "--out", out / "solve"),
+        "solve into the folder": run_as_nobody(nobody_dir, "solve", heavy_top, "--t-end", "0.01", "--out", out),
+        "compare": run_as_nobody(nobody_dir, "compare", free_body, "--t-end", "0.1", "--only",
+                                 "quaternion/lagrange/ggl", "--out", out),
+        "study run": run_as_nobody(nobody_dir, "study", "run", study, "--shard", "0/1", "--out", out / "again"),
+        "study collect": run_as_nobody(nobody_dir, "study", "collect", study, "--out", out, "--no-plot"),
     }
     for what, (code, _, err) in results.items():
         assert code == 2, f"{what}: exit {code}: {err}"
