@@ -3,6 +3,7 @@
 // (app/multibody_accuracy_check.hpp), and summary.json.
 #include "solve_multibody.hpp"
 #include "counters_json.hpp"
+#include "machine_record.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -111,6 +112,7 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
         {"abs_energy_rel_error", o.extremes.max_abs_energy_error}}},
       {"final", {{"energy", recorder.last_energy()}, {"initial_energy", recorder.initial_energy()}}},
   };
+  add_provenance(j);  // "build" and "run"
   o.start_warnings = problem.warnings();  // printed by the command (solve: each run; compare: once)
   write_file_atomically(out_dir / "summary.json", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   return o;
