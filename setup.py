@@ -7,10 +7,9 @@ into the wheel beside the pure-Python files of python/rigidae/.
     RIGIDAE_BUILD_DIR=build pip install --no-build-isolation --no-index .
 
 reuses an already configured CMake build folder (only what changed is
-rebuilt: nothing after tools/build.sh). Without it the module is built from
-scratch in setuptools' temporary folder (with ccache when installed, whose
-cache the build folder's objects may already fill). RIGIDAE_CMAKE_ARGS adds
-arguments to that configure step.
+rebuilt: nothing after tools/build.sh). Without it the module is built in
+build-pip/ (with ccache when installed, whose cache tools/build.sh's objects
+may already fill). RIGIDAE_CMAKE_ARGS adds arguments to that configure step.
 """
 import os
 import re
@@ -24,10 +23,12 @@ from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
 
 SOURCE = Path(__file__).resolve().parent
-# setuptools' own folders: beside CMake's files in RIGIDAE_BUILD_DIR, else
-# build-pip/ (never CMake's build/; both ignored by git).
-PIP_DIR = (Path(os.environ["RIGIDAE_BUILD_DIR"]).resolve() / "pip" if os.environ.get("RIGIDAE_BUILD_DIR")
-           else SOURCE / "build-pip")
+# The CMake build folder: RIGIDAE_BUILD_DIR, else build-pip/ (ignored by git),
+# beside build/ at the same depth so that ccache, with CCACHE_BASEDIR set to the
+# source tree as tools/build.sh sets it, finds build/'s objects under the same
+# relative paths. setuptools' own folders go into its pip/ (never CMake's build/).
+CMAKE_DIR = Path(os.environ.get("RIGIDAE_BUILD_DIR") or SOURCE / "build-pip").resolve()
+PIP_DIR = CMAKE_DIR / "pip"
 PIP_DIR.mkdir(parents=True, exist_ok=True)
 
 
@@ -38,21 +39,19 @@ def version():
 
 class CMakeBuild(build_ext):
     def build_extension(self, ext):
-        build_dir = os.environ.get("RIGIDAE_BUILD_DIR")
+        build_dir = CMAKE_DIR
         env = dict(os.environ)
-        if build_dir:
-            build_dir = Path(build_dir).resolve()
+        if os.environ.get("RIGIDAE_BUILD_DIR"):
             if not (build_dir / "CMakeCache.txt").is_file():
                 sys.exit(f"RIGIDAE_BUILD_DIR={build_dir}: no CMake build folder (run tools/build.sh first)")
         else:
-            build_dir = Path(self.build_temp).resolve() / "cmake"
             configure = ["cmake", "-S", str(SOURCE), "-B", str(build_dir), "-DCMAKE_BUILD_TYPE=Release",
                          f"-DPython3_EXECUTABLE={sys.executable}"]
             if shutil.which("ninja"):
                 configure += ["-G", "Ninja"]
             if shutil.which("ccache"):
                 configure.append("-DCMAKE_CXX_COMPILER_LAUNCHER=ccache")
-                env.setdefault("CCACHE_BASEDIR", str(SOURCE))  # hits for objects of other build folders
+                env.setdefault("CCACHE_BASEDIR", str(SOURCE))  # hits for build/'s objects
             configure += shlex.split(os.environ.get("RIGIDAE_CMAKE_ARGS", ""))
             subprocess.run(configure, check=True, env=env)
         subprocess.run(["cmake", "--build", str(build_dir), "--target", "rigidae_python_core",

@@ -98,4 +98,14 @@ check(summary["run"]["command_line"].startswith(f"{moved / 'bin' / 'rigidae'} so
       summary["run"]["command_line"].endswith(" --plot -q --out " + str(work / "cli_run")),
       "summary.json run.command_line: " + summary["run"]["command_line"])
 print(f"installed CLI --plot: {script}")
+# The CLI alone, without its share/ folder: a clear warning naming where it looked; the run still succeeds.
+lonely = work / "lonely" / "bin"
+lonely.mkdir(parents=True)
+shutil.copy2(moved / "bin" / "rigidae", lonely / "rigidae")
+env.pop("RIGIDAE_TOOLS_DIR")
+p = run(lonely / "rigidae", "solve", heavy_top, "--t-end", "0.05", "--plot", "-q", "--out", work / "lonely_run",
+        env=env, cwd=work)
+check(f"figures skipped: plot_solve.py not found in {lonely.parent / 'share' / 'rigidae' / 'tools'}" in p.stderr
+      and "RIGIDAE_TOOLS_DIR" in p.stderr, "the missing scripts' warning:\n" + p.stderr)
+check((work / "lonely_run" / "summary.json").is_file(), "the run without scripts is written")
 print(f"total: {time.monotonic() - started:.1f} s")
