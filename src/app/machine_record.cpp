@@ -82,8 +82,8 @@ nlohmann::json machine_record() {
   static const nlohmann::json fixed = [] {
     char host[256] = "unknown";
     gethostname(host, sizeof host - 1);
-    return nlohmann::json{{"host", host}, {"cpu_model", cpu_model()}, {"commit", std::string(RIGIDAE_BUILD_COMMIT) + (RIGIDAE_BUILD_DIRTY ? "-dirty" : "")},
-                          {"compiler", compiler()}};
+    const std::string commit = std::string(RIGIDAE_BUILD_COMMIT) + (RIGIDAE_BUILD_DIRTY ? "-dirty" : "");
+    return nlohmann::json{{"host", host}, {"cpu_model", cpu_model()}, {"commit", commit}, {"compiler", compiler()}};
   }();
   nlohmann::json j = fixed;
   const std::string load = first_line("/proc/loadavg");
