@@ -9,7 +9,8 @@ packages=(g++ cmake ninja-build pkg-config
           libsundials-dev libeigen3-dev libsuitesparse-dev libfmt-dev doctest-dev
           libtomlplusplus-dev nlohmann-json3-dev
           python3-numpy python3-matplotlib
-          python3-dev pybind11-dev python3-pytest)
+          python3-dev pybind11-dev python3-pytest
+          python3-venv python3-pip python3-setuptools python3-wheel)  # pip install . (README "Install")
 bash tools/install_missing.sh rigidae "${packages[@]}"
 
 # ccache, when present, shares compiled objects between checkouts of the

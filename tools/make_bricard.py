@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Bodies and joints of problems/bricard.toml: the threefold-symmetric
 orthogonal Bricard 6R loop (six links a, DH twists alternating +-90 deg, no
 offsets; Baker 1980), closed at theta_odd = THETA by Gauss-Newton on the

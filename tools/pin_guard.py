@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Pins what the regression guard (tests/unit/test_guard.cpp) compares.
 
 Runs `rigidae solve` for every coordinates x equations x scheme combination

@@ -1,12 +1,12 @@
 // See machine_record.hpp.
 #include "machine_record.hpp"
 
+#include "rigidae_build_info.hpp"  // generated: cmake/build_info.cmake
+
 #include <unistd.h>
 
-#include <array>
-#include <cstdio>
+#include <ctime>
 #include <fstream>
-#include <memory>
 #include <string>
 
 namespace rigidae {
@@ -31,27 +31,39 @@ std::string cpu_model() {
   return "unknown";
 }
 
-// The commit of the sources this binary was built from, as git sees them
-// now ("-dirty" when tracked files differ); "unknown" outside a checkout.
-std::string source_commit() {
-#ifdef RIGIDAE_SOURCE_DIR_FOR_COMMIT
-  const std::string dir = RIGIDAE_SOURCE_DIR_FOR_COMMIT;
-  auto run = [](const std::string& cmd) {
-    std::unique_ptr<FILE, int (*)(FILE*)> p(popen((cmd + " 2>/dev/null").c_str(), "r"), pclose);
-    std::string out;
-    if (!p) return out;
-    std::array<char, 256> buf{};
-    while (std::fgets(buf.data(), buf.size(), p.get())) out += buf.data();
-    while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
-    return out;
-  };
-  const std::string commit = run("git -C '" + dir + "' rev-parse HEAD");
-  if (commit.empty()) return "unknown";
-  const bool dirty = !run("git -C '" + dir + "' status --porcelain --untracked-files=no").empty();
-  return dirty ? commit + "-dirty" : commit;
-#else
-  return "unknown";
-#endif
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+// A word as a POSIX shell reads it back: bare when it holds only safe characters.
+std::string shell_quoted(const std::string& w) {
+  if (!w.empty() && w.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789"
+                                        "@%+=:,./-_") == std::string::npos)
+    return w;
+  std::string q(1, '\'');
+  for (char c : w) {
+    if (c == '\'')
+      q += "'\\''";
+    else
+      q += c;
+  }
+  q += '\'';
+  return q;
+}
+
+std::string command_line() {
+  std::ifstream in("/proc/self/cmdline", std::ios::binary);
+  std::string word, line;
+  while (std::getline(in, word, '\0')) {
+    if (!line.empty()) line += ' ';
+    line += shell_quoted(word);
+  }
+  return line;
 }
 
 std::string compiler() {
@@ -70,13 +82,24 @@ nlohmann::json machine_record() {
   static const nlohmann::json fixed = [] {
     char host[256] = "unknown";
     gethostname(host, sizeof host - 1);
-    return nlohmann::json{{"host", host}, {"cpu_model", cpu_model()}, {"commit", source_commit()},
-                          {"compiler", compiler()}};
+    const std::string commit = std::string(RIGIDAE_BUILD_COMMIT) + (RIGIDAE_BUILD_DIRTY ? "-dirty" : "");
+    return nlohmann::json{{"host", host}, {"cpu_model", cpu_model()}, {"commit", commit}, {"compiler", compiler()}};
   }();
   nlohmann::json j = fixed;
   const std::string load = first_line("/proc/loadavg");
   j["load_average"] = load.substr(0, load.find(' ', load.find(' ', load.find(' ') + 1) + 1));
   return j;
+}
+
+nlohmann::json build_record() {
+  return nlohmann::json{{"commit", RIGIDAE_BUILD_COMMIT}, {"dirty", RIGIDAE_BUILD_DIRTY}, {"date", RIGIDAE_BUILD_DATE}};
+}
+
+nlohmann::json run_record() { return nlohmann::json{{"command_line", command_line()}, {"date", utc_now()}}; }
+
+void add_provenance(nlohmann::json& summary) {
+  summary["build"] = build_record();
+  summary["run"] = run_record();
 }
 
 }  // namespace rigidae

@@ -3,6 +3,7 @@
 #include "solve_multibody.hpp"
 #include "counters_json.hpp"
 #include "summary_common.hpp"
+#include "machine_record.hpp"
 
 #include <fmt/format.h>
 
@@ -140,6 +141,7 @@ nlohmann::json summary(const Scene& scene, const SolveOutcome& o) {
       {"final_row", final_row_json(f, o.multiplier_names)},
       {"columns_units", columns::units_line().substr(2)},
   });
+  add_provenance(j);  // "build" and "run"
   return j;
 }
 

@@ -4,6 +4,7 @@
 #include "solve_multibody.hpp"
 #include "counters_json.hpp"
 #include "summary_common.hpp"
+#include "machine_record.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -183,6 +184,7 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
     if (!rr.dropped.empty()) o.note += fmt::format(", {} redundant rows set aside", rr.dropped.size());
     j["note"] = o.note;
   }
+  add_provenance(j);  // "build" and "run"
   o.start_warnings = problem.warnings();  // printed by the command (solve: each run; compare: once)
   try {
     write_file_atomically(out_dir / "summary.json", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");

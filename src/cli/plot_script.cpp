@@ -28,31 +28,50 @@ int run_program(const std::vector<std::string>& argv) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
 }
 
-std::filesystem::path find_script(const std::string& name) {
+// The folders searched for the plot scripts, in order: $RIGIDAE_TOOLS_DIR
+// when set, then share/rigidae/tools relative to this executable's folder:
+// ../share/rigidae/tools when installed (PREFIX/bin/rigidae), and
+// share/rigidae/tools beside it in the build tree (CMake links it to the
+// source tree's tools/). No path of the build machine is compiled in: an
+// installed prefix can be moved.
+std::vector<std::filesystem::path> script_dirs() {
   std::vector<std::filesystem::path> dirs;
-  if (const char* env = std::getenv("RIGIDAE_TOOLS_DIR")) dirs.emplace_back(env);
-#ifdef RIGIDAE_TOOLS_DIR
-  dirs.emplace_back(RIGIDAE_TOOLS_DIR);
-#endif
+  if (const char* env = std::getenv("RIGIDAE_TOOLS_DIR"); env && *env) dirs.emplace_back(env);
   std::error_code ec;
   const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (!ec) dirs.push_back(exe.parent_path().parent_path() / "tools");
-  for (const auto& d : dirs)
-    if (std::filesystem::exists(d / name)) return d / name;
-  return {};
+  if (!ec) {
+    const auto bin = exe.parent_path();
+    dirs.push_back((bin.parent_path() / "share" / "rigidae" / "tools").lexically_normal());
+    dirs.push_back(bin / "share" / "rigidae" / "tools");
+  }
+  return dirs;
 }
 
 }  // namespace
 
 bool run_plot_script(const std::string& script, const std::vector<std::string>& args) {
   std::fflush(stdout);  // our lines before the script's
-  const std::filesystem::path path = find_script(script);
   const char* python = "/usr/bin/python3";
-  if (path.empty() || !std::filesystem::exists(python)) {
-    fmt::print(stderr, "rigidae: warning: figures skipped: {} not found\n",
-               path.empty() ? fmt::format("tools/{} (set RIGIDAE_TOOLS_DIR)", script) : std::string(python));
+  std::filesystem::path path;
+  std::string searched;
+  for (const auto& d : script_dirs()) {
+    if (std::filesystem::exists(d / script)) {
+      path = d / script;
+      break;
+    }
+    searched += fmt::format("{}{}", searched.empty() ? "" : ", ", d.string());
+  }
+  if (path.empty()) {
+    fmt::print(stderr, "rigidae: warning: figures skipped: {} not found in {} (set RIGIDAE_TOOLS_DIR to the folder "
+                       "holding rigidae's plot scripts)\n", script, searched.empty() ? "no folder" : searched);
     return false;
   }
+  if (!std::filesystem::exists(python)) {
+    fmt::print(stderr, "rigidae: warning: figures skipped: {} not found (Debian's python3 and python3-matplotlib)\n",
+               python);
+    return false;
+  }
+  if (std::getenv("RIGIDAE_SHOW_PLOT_SCRIPT")) fmt::print(stderr, "rigidae: plot script {}\n", path.string());
   std::vector<std::string> cmd{python, path.string()};
   cmd.insert(cmd.end(), args.begin(), args.end());
   const int rc = run_program(cmd);

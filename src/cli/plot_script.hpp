@@ -8,8 +8,10 @@
 namespace rigidae::cli {
 
 // Runs /usr/bin/python3 tools/SCRIPT ARGS...; the script is looked up in
-// $RIGIDAE_TOOLS_DIR, the source tree's tools/, then tools/ next to the
-// executable's parent folder. Returns true if it ran and exited 0.
+// $RIGIDAE_TOOLS_DIR, then relative to the executable: ../share/rigidae/tools
+// (installed), share/rigidae/tools (the build tree's link to tools/).
+// RIGIDAE_SHOW_PLOT_SCRIPT set in the environment prints the script's path
+// to stderr. Returns true if it ran and exited 0.
 bool run_plot_script(const std::string& script, const std::vector<std::string>& args);
 
 }  // namespace rigidae::cli

@@ -107,7 +107,7 @@ const Setting* by_study_key(std::string_view key) {
 }
 const Setting* by_option(std::string_view option) {
   for (const Setting& s : all())
-    if (!option.empty() && s.option == option) return &s;
+    if (!option.empty() && (s.option == option || s.short_option == option)) return &s;
   return nullptr;
 }
 
@@ -265,7 +265,9 @@ std::string options_help(Command command) {
   std::string out;
   for (const Setting& s : all()) {
     if (s.option.empty() || !(s.commands & command)) continue;
-    std::string head = "  " + std::string(s.option);
+    std::string head = "  ";
+    if (!s.short_option.empty()) (head += s.short_option) += ", ";  // "-q, --quiet"
+    head += s.option;
     const bool flag = s.flag_value.has_value();
     if (!flag) head += " " + (s.kind == Kind::Choice && s.choices().size() <= 6 ? domain_text(s) : std::string(s.metavar.empty() ? "X" : s.metavar));
     std::vector<std::string> notes;

@@ -292,7 +292,7 @@ std::vector<Setting> make_table() {
        .default_text = "off", .help = "(study, study collect) skip the figures (tools/plot_study.py)"});
   row({.option = "--partial", .commands = kStudy, .kind = Kind::Boolean, .flag_value = "true",
        .default_text = "off", .help = "(study collect) exit 0 even if some runs are missing"});
-  row({.option = "--quiet", .commands = kSolve | kCompare | kStudy, .kind = Kind::Boolean, .flag_value = "true",
+  row({.option = "--quiet", .short_option = "-q", .commands = kSolve | kCompare | kStudy, .kind = Kind::Boolean, .flag_value = "true",
        .default_text = "off", .help = "no progress lines; solve prints nothing on success"});
   return t;
 }

@@ -46,6 +46,7 @@ def test_module_equals_cli(options, tmp_path):
     # Everything else in the summary but the wall time.
     py = dict(run.summary)
     py.pop("wall_time_s"), cli.pop("wall_time_s")
+    assert py.pop("run")["command_line"] != cli.pop("run")["command_line"]  # this process, the CLI's
     # The command's own addition: the error against the closed form on the
     # output grid (the heavy top has one), from trajectory.csv and reference.csv.
     assert cli.pop("closed_form_error")["final_orientation_rad"] < 1e-3
@@ -72,6 +73,7 @@ def test_files_written_by_the_module_equal_the_cli_files(tmp_path):
         assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
     py, cli = read_summary(tmp_path / "py"), read_summary(tmp_path / "cli")
     py.pop("wall_time_s"), cli.pop("wall_time_s")
+    py.pop("run"), cli.pop("run")  # the command line and the time of each
     assert "closed_form_error" in cli  # the command's own addition, as above
     cli.pop("closed_form_error")
     assert py == cli

@@ -35,6 +35,7 @@ struct Setting {
   std::string_view scene_key;  // dotted key in a scene file ("solver.rtol"); "" if none
   std::string_view study_key;  // dotted key in a study file ("timing.repeats"); "" if none
   std::string_view option;     // command-line option ("--rtol"); "" if none
+  std::string_view short_option;  // its one-letter form ("-q" for --quiet); "" if none
   unsigned commands = 0;       // the commands that take `option`
   Kind kind = Kind::Real;
   std::string_view metavar;    // the value's placeholder in --help ("X", "N", "DIR")
