@@ -13,7 +13,8 @@ the reference on the output grid; compare.csv gives the scene name, the
 schemes and the errors at the end. The figures go to DIR/figures/ (or FIGDIR),
 each as PNG and PDF, and their paths are printed. Panels are laid out with one
 row per coordinates (euler, quaternion, linear) and one column per equation
-form (lagrange, euler), with shared axes; one line per scheme:
+form (lagrange, euler), with shared axes; one line per scheme and integrator
+(colour: the scheme; line style: the integrator when several ran, else the scheme):
 
   error.png           angle between each run's orientation and the reference at
                       every output time (trajectory.csv), log axis. A multibody
@@ -21,7 +22,7 @@ form (lagrange, euler), with shared axes; one line per scheme:
                       columns): the worst body's angle at each output time.
   error_position.png  multibody compare only: the worst body's centre-of-mass
                       distance to the reference (m) at each output time.
-  drift_position.png  |Phi(q)| at every IDA step against t, log axis, one panel
+  drift_position.png  |Phi(q)| at every step against t, log axis, one panel
                       per constrained representation (2 x 2).
   drift_velocity.png  the same for the velocity level |dPhi/dt| (1/s).
   multipliers.png     the Euclidean norm of the lambda_* columns (generalized
@@ -32,13 +33,15 @@ form (lagrange, euler), with shared axes; one line per scheme:
   energy_error.png    |relative energy error| against t, log axis, Euler-angle
                       chart switches (events.csv) as ticks on the time axis.
   momentum_error.png  |relative error of the vertical angular momentum|.
-  step_size.png       IDA's step size h (geometric mean per time bin), log axis.
-  order.png           IDA's BDF order (mean per time bin).
+  step_size.png       the integrator's step size h (geometric mean per time bin), log axis.
+  order.png           its method order (mean per time bin).
   axis_trace.png      a body axis (--axis; default the symmetry axis, the
                       principal axis about the pivot whose moment stands apart)
                       in space on the unit sphere, with the reference's.
-  summary.png         per run: error at the end (compare.csv), max |Phi| and
-                      max |energy error| (summary.json) against IDA steps;
+  summary.png         work against precision (SciML's orientation): the wall
+                      time of each run (compare.csv wall_s) against its error
+                      at the end (compare.csv), max |Phi| and max |energy
+                      error| (summary.json); one row of panels per integrator;
                       colour: scheme, marker: coordinates, filled/open:
                       lagrange/euler form.
   identical_runs.json the runs drawn once because another run is the same
@@ -100,6 +103,12 @@ SCHEME_STYLE = {  # fixed across figures and compare folders
     "baumgarte": ("#9467bd", "-"),
     "projection": ("#8c564b", (0, (5, 2))),
 }
+# Integrators (compare runs IDA, CVODE and ARKODE on one scene): one line style each
+# when a compare holds more than one, the colour staying the scheme's.
+INTEGRATOR_ORDER = ["ida", "cvode-bdf", "cvode-adams", "arkode-erk"]
+INTEGRATOR_STYLE = {"ida": "-", "cvode-bdf": (0, (5, 2)), "cvode-adams": (0, (1.2, 1.2)),
+                    "arkode-erk": (0, (6, 2, 1, 2))}
+EXTRA_INTEGRATOR_STYLES = [(0, (3, 1, 1, 1, 1, 1)), (0, (8, 3))]
 EXTRA_STYLES = [("#e377c2", "-"), ("#bcbd22", (0, (5, 2))), ("#17becf", (0, (6, 2, 1, 2))),
                 ("#7f7f7f", (0, (1.5, 1.5))), ("#ff9896", "-"), ("#98df8a", (0, (5, 2)))]
 REF_STYLE = dict(color="black", linestyle=(0, (1, 1.5)), linewidth=1.0, alpha=0.8, zorder=1)
@@ -116,7 +125,7 @@ QUANTITY = {  # key -> (y label, short description)
     "error": ("angle to reference  (rad)", "orientation error against time"),
     "error_position": ("worst body's CoM distance  (m)", "worst body's centre-of-mass error against time"),
     "h": ("step size h  (s)", "step size"),
-    "order": ("BDF order", "order"),
+    "order": ("method order", "order"),
 }
 
 
@@ -179,6 +188,13 @@ def run_identity(folder, summary):
         if len(parts) >= 3:
             coords, eqs, scheme = coords or parts[0], eqs or parts[1], scheme or "-".join(parts[2:])
     return coords or "?", eqs or "?", scheme or "?"
+
+
+def run_integrator(summary):
+    """The integrator that ran (summary.json "integrator"; runs before integrators were
+    selectable were IDA's)."""
+    return (summary.get("integrator") or ((summary.get("configuration") or {}).get("solver") or {}).get("integrator")
+            or "ida")
 
 
 def parse_rows_slowly(path, skip, usecols, ncols):
@@ -462,6 +478,7 @@ class Run:
         self.summary = summary
         self.is_reference = is_reference
         self.coords, self.eqs, self.scheme = run_identity(folder, summary)
+        self.integrator = run_integrator(summary)
         self.rep = f"{self.coords}/{self.eqs}"
         self.status = summary.get("status", "unknown")
         self.data = None
@@ -500,6 +517,16 @@ class Run:
         if not self.has_steps():
             note += ", no steps recorded"
         return note
+
+    def wall_time(self):
+        """compare.csv's wall_s (median of the repeats), else summary.json's wall time."""
+        try:
+            v = float((getattr(self, "table", None) or {}).get("wall_s", "nan"))
+        except ValueError:
+            v = float("nan")
+        if not np.isfinite(v):
+            v = self.summary.get("wall_time_s", self.summary.get("wall_seconds"))
+        return v if v is not None and np.isfinite(v) and v > 0 else None
 
     def steps(self):
         n = (self.summary.get("counters") or {}).get("steps")
@@ -614,16 +641,33 @@ def tolerance_text(runs):
 
 
 class Styles:
-    def __init__(self, schemes):
+    """Colour: the scheme. Line style: the scheme's own when one integrator ran, else the
+    integrator's (so that IDA's and ARKODE's ggl lines differ in one panel)."""
+
+    def __init__(self, schemes, integrators=("ida",)):
         self.order = sorted(schemes, key=order_key(list(SCHEME_STYLE)))
         self.style = {}
         extra = iter(EXTRA_STYLES * 10)
         for s in self.order:
             self.style[s] = SCHEME_STYLE.get(s) or next(extra)
+        self.integrators = sorted(set(integrators), key=lambda i: (order_key(INTEGRATOR_ORDER)(i.split(":")[0]), i))
+        self.several_integrators = len(self.integrators) > 1
+        more = iter(EXTRA_INTEGRATOR_STYLES * 10)
+        bases = [i.split(":")[0] for i in self.integrators]  # arkode-erk:fehlberg78 -> arkode-erk's style
+        self.integrator_style = {i: INTEGRATOR_STYLE.get(i) or (INTEGRATOR_STYLE.get(b) if bases.count(b) == 1 else None)
+                                 or next(more) for i, b in zip(self.integrators, bases)}
 
-    def kw(self, scheme):
+    def kw(self, run):
+        """Line style of a run (or of a scheme name: its legend entry)."""
+        scheme = run if isinstance(run, str) else run.scheme
         color, ls = self.style[scheme]
+        if self.several_integrators:
+            ls = "-" if isinstance(run, str) else self.integrator_style[run.integrator]
         return dict(color=color, linestyle=ls, linewidth=1.2, alpha=0.9, zorder=3)
+
+    def label(self, run):
+        """A run's name within its panel: the scheme, and the integrator when several ran."""
+        return f"{run.scheme} ({run.integrator})" if self.several_integrators else run.scheme
 
 
 class Context:
@@ -637,7 +681,7 @@ class Context:
                 r.scheme = r.table["scheme"]
         refs = [r for r in runs if r.is_reference]
         self.ref = refs[0] if refs else None
-        self.styles = Styles({r.scheme for r in self.runs})
+        self.styles = Styles({r.scheme for r in self.runs}, {r.integrator for r in self.runs})
         self.scene = scene_name(root, runs)
         self.tol = tolerance_text(self.runs)
         self.coords = sorted({r.coords for r in self.runs}, key=order_key(COORD_ORDER))
@@ -654,7 +698,8 @@ class Context:
         self.ref_grid, self.ref_source, self.axis_name, self.ref_trace = None, None, None, None
         self.multibody = any(r.summary.get("schema_version") == 2 for r in runs)
         # Identical runs (identical_runs.py): drawn once, the others say "same as".
-        order = sorted(self.runs, key=lambda r: (r.coords, r.eqs, order_key(self.styles.order)(r.scheme), r.name))
+        order = sorted(self.runs, key=lambda r: (r.coords, r.eqs, order_key(self.styles.order)(r.scheme),
+                                                 order_key(INTEGRATOR_ORDER)(r.integrator), r.name))
         same = identical_runs.find_identical([(r.name, r.folder, (r.coords, r.eqs)) for r in order])
         by_name = {r.name: r for r in self.runs}
         for r in self.runs:
@@ -680,9 +725,9 @@ class Context:
                 continue
             if r.same_until is None:
                 what = "steps" if r.same_basis == "steps.csv" else "output and counters"
-                notes.append(f"{r.scheme} = {r.same_as.scheme} (identical {what}; drawn once)")
+                notes.append(f"{self.styles.label(r)} = {self.styles.label(r.same_as)} (identical {what}; drawn once)")
             else:
-                notes.append(f"{r.scheme} = {r.same_as.scheme} until t = {fmt_num(r.same_until)} s")
+                notes.append(f"{self.styles.label(r)} = {self.styles.label(r.same_as)} until t = {fmt_num(r.same_until)} s")
         return notes
 
     def has_constraints(self, coords):
@@ -698,7 +743,8 @@ class Context:
 
     def runs_of(self, coords, eqs):
         rs = [r for r in self.runs if r.coords == coords and r.eqs == eqs]
-        return sorted(rs, key=lambda r: (order_key(self.styles.order)(r.scheme), r.name))
+        return sorted(rs, key=lambda r: (order_key(self.styles.order)(r.scheme),
+                                         order_key(INTEGRATOR_ORDER)(r.integrator), r.name))
 
     def subtitle(self, extra=""):
         n = len(self.runs)
@@ -776,6 +822,9 @@ def save(fig, path):
 
 def legend_handles(ctx, schemes, with_ref=False, with_fail=False, with_switch=False):
     hs = [Line2D([], [], label=s, **ctx.styles.kw(s)) for s in ctx.styles.order if s in schemes]
+    if ctx.styles.several_integrators:
+        hs += [Line2D([], [], color="0.3", linewidth=1.2, linestyle=ctx.styles.integrator_style[i], label=i)
+               for i in ctx.styles.integrators]
     if with_ref and ctx.ref is not None:
         hs.append(Line2D([], [], label=f"reference ({ctx.ref.rep}/{ctx.ref.scheme}, "
                          f"rtol {fmt_num(ctx.ref.solver.get('rtol'))})", **REF_STYLE))
@@ -887,8 +936,8 @@ def draw_chart_switches(ax, runs, ctx):
     return drawn
 
 
-def failure_notes(runs):
-    return [f"{r.scheme}: {r.status_note()}" for r in runs if r.failed]
+def failure_notes(runs, ctx):
+    return [f"{ctx.styles.label(r)}: {r.status_note()}" for r in runs if r.failed]
 
 
 def plot_per_representation(ctx, key, coords_list, filename, title, chart_switches=False, log=True, mode="max",
@@ -911,7 +960,7 @@ def plot_per_representation(ctx, key, coords_list, filename, title, chart_switch
             runs = ctx.drawn_runs_of(c, e)
             drawn = 0
             for r in runs:
-                if draw_line(ax, r, key, mode, ctx.styles.kw(r.scheme), bottom):
+                if draw_line(ax, r, key, mode, ctx.styles.kw(r), bottom):
                     drawn += 1
                     schemes.add(r.scheme)
             if ref is not None and ref.coords == c and ref.eqs == e:
@@ -920,7 +969,7 @@ def plot_per_representation(ctx, key, coords_list, filename, title, chart_switch
                 any_switch |= draw_chart_switches(ax, runs, ctx)
             if not drawn:
                 empty_panel(ax, "no runs" if not ctx.runs_of(c, e) else "no steps recorded")
-            notes = failure_notes(ctx.runs_of(c, e))
+            notes = failure_notes(ctx.runs_of(c, e), ctx)
             any_fail |= bool(notes)
             panel_title(ax, f"{c} / {e}", notes, ctx.same_notes(c, e))
             style_axis(ax, (ylabel or QUANTITY[key][0]) if j == 0 else None, log, ctx, i == len(coords_list) - 1)
@@ -971,7 +1020,7 @@ def plot_multipliers(ctx):
                 any_clipped |= clipped
             drawn = 0
             for r in runs:
-                if draw_line(ax, r, kind, mode, ctx.styles.kw(r.scheme), bottom):
+                if draw_line(ax, r, kind, mode, ctx.styles.kw(r), bottom):
                     drawn += 1
                     schemes.add(r.scheme)
             if ref is not None:
@@ -985,7 +1034,7 @@ def plot_multipliers(ctx):
                     empty_panel(ax, f"no {symbol} multipliers\n({', '.join(r.scheme for r in runs)})")
             elif log:
                 ax.set_ylim(bottom, top)
-            notes = failure_notes(runs)
+            notes = failure_notes(runs, ctx)
             any_fail |= bool(notes)
             panel_title(ax, f"{c} / {e}:  {symbol}", notes, ctx.same_notes(c, e))
             style_axis(ax, QUANTITY[kind][0], log, ctx, i == len(ctx.constrained) - 1)
@@ -994,19 +1043,15 @@ def plot_multipliers(ctx):
     if any_clipped:
         note += "; on log axes values below the bottom (incl. exact zeros) are drawn at the bottom"
     path = os.path.join(ctx.outdir, "multipliers.png")
-    return finish_figure(fig, f"{ctx.scene}: constraint multipliers at every IDA step", ctx.subtitle(note),
+    return finish_figure(fig, f"{ctx.scene}: constraint multipliers at every step", ctx.subtitle(note),
                          legend_handles(ctx, schemes, ref_drawn, any_fail), path)
 
 
-def steps_label(x, _pos=None):
-    if x >= 1e6:
-        return f"{x / 1e6:g}M"
-    if x >= 1e3:
-        return f"{x / 1e3:g}k"
-    return f"{x:g}"
-
-
 def plot_summary(ctx):
+    """Work against precision, SciML's WorkPrecisionSet orientation: the quantity (error,
+    drift, energy error) on x, the wall time of the run on y (compare.csv's wall_s, the
+    median of the repeats), both log. One row per integrator, so that IDA's, CVODE's and
+    ARKODE's points of one scheme never share a panel; columns share x, all panels share y."""
     markers = dict(COORD_MARKER)
     extra = iter(EXTRA_MARKERS * 10)
     for c in ctx.coords:
@@ -1019,62 +1064,63 @@ def plot_summary(ctx):
     drift_label, energy_label = (("max |Φ| over the joints  (m or rad)", "max |H − H₀| / max(|H₀|, 1 J)")
                                  if ctx.multibody else
                                  ("max |Φ(q)|  (dimensionless)", "max |H − H₀| / |H₀|  (dimensionless)"))
-    panels = [("error_final_rad", ctx.runs, error_label, "error against work"),
-              ("drift_position", [r for r in ctx.runs if r.coords in ctx.constrained],
-               drift_label, "constraint drift against work"),
-              ("energy_rel_error", ctx.runs, energy_label, "energy error against work")]
+    panels = [("error_final_rad", error_label, "error"),
+              ("drift_position", drift_label, "constraint drift"),
+              ("energy_rel_error", energy_label, "energy error")]
     if not any(r.maximum("error_final_rad") is not None and np.isfinite(r.maximum("error_final_rad"))
                for r in ctx.runs):
         panels = panels[1:]  # no reference: no errors in compare.csv
     if not ctx.constrained:
         panels = [p for p in panels if p[0] != "drift_position"]
-    fig, axes = new_figure(1, len(panels), panel_w=5.6, panel_h=4.4, sharex=True)
-    axes = axes[0]
+    integrators = ctx.styles.integrators
+    fig, axes = new_figure(len(integrators), len(panels), panel_w=5.0, panel_h=3.6, sharex="col", sharey=True)
     any_fail, clipped = False, False
-    for ax, (key, runs, ylabel, title) in zip(axes, panels):
-        pts = []
-        for r in sorted(runs, key=lambda r: order_key(ctx.styles.order)(r.scheme)):
-            x, y = r.steps(), r.maximum(key)
-            if x is not None and y is not None and np.isfinite(y):
-                pts.append((r, x, y))
+    times = [r.wall_time() for r in ctx.runs + ([ctx.ref] if ctx.ref else []) if r.wall_time()]
+    for j, (key, xlabel, title) in enumerate(panels):
+        in_column = [r for r in ctx.runs if key != "drift_position" or r.coords in ctx.constrained]
+        values = [r.maximum(key) for r in in_column]
         ref = ctx.ref
-        ref_pt = None
-        if pts and ref is not None and key != "error_final_rad" and ref.steps() is not None \
-                and ref.maximum(key) is not None:
-            ref_pt = (ref.steps(), ref.maximum(key))
-        bottom, top, clip = log_range([np.array([p[2] for p in pts] + ([ref_pt[1]] if ref_pt else []), dtype=float)],
+        ref_x = ref.maximum(key) if ref is not None and key != "error_final_rad" else None
+        left, right, clip = log_range([np.array([v for v in values + [ref_x] if v is not None], dtype=float)],
                                       robust=False)
         clipped |= clip
-        for r, x, y in pts:
-            color = ctx.styles.style[r.scheme][0]
-            filled = r.eqs == "lagrange"
-            ax.plot([x], [max(y, bottom)], marker=markers[r.coords], markersize=size[r.scheme], linestyle="none",
-                    markerfacecolor=color if filled else "white", markeredgecolor=color,
-                    markeredgewidth=2.0, zorder=3)
-            if r.failed:
-                any_fail = True
-                ax.plot([x], [max(y, bottom)], marker="x", markersize=15, color="black", markeredgewidth=1.5,
-                        zorder=4)
-        if ref_pt:
-            ax.plot([ref_pt[0]], [max(ref_pt[1], bottom)], marker="*", markersize=15, color="black",
-                    linestyle="none", zorder=3)
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        if pts:
-            ax.set_ylim(bottom, top)
-            xs = [p[1] for p in pts] + ([ref_pt[0]] if ref_pt else [])
-            ax.set_xlim(min(xs) / 1.25, max(xs) * 1.25)
-        else:
-            empty_panel(ax, "no data")
-        ax.xaxis.set_major_locator(mticker.LogLocator(base=10, subs=(1.0, 2.0, 3.0, 5.0)))
-        ax.xaxis.set_major_formatter(mticker.FuncFormatter(steps_label))
-        ax.xaxis.set_minor_locator(mticker.NullLocator())
-        ax.yaxis.set_minor_locator(mticker.NullLocator())
-        ax.grid(True, which="major", alpha=0.35)
-        ax.set_xlabel("IDA steps  (summary.json counters.steps)", fontsize=10.5)
-        ax.set_ylabel(ylabel, fontsize=10.5)
-        ax.tick_params(labelsize=9.5)
-        ax.set_title(title, fontsize=12, fontweight="bold", loc="left")
+        for i, integ in enumerate(integrators):
+            ax = axes[i, j]
+            pts = []
+            for r in sorted(in_column, key=lambda r: order_key(ctx.styles.order)(r.scheme)):
+                x, y = r.maximum(key), r.wall_time()
+                if r.integrator == integ and x is not None and np.isfinite(x) and y is not None:
+                    pts.append((r, max(x, left), y))
+            for r, x, y in pts:
+                color = ctx.styles.style[r.scheme][0]
+                filled = r.eqs == "lagrange"
+                ax.plot([x], [y], marker=markers[r.coords], markersize=size[r.scheme], linestyle="none",
+                        markerfacecolor=color if filled else "white", markeredgecolor=color,
+                        markeredgewidth=2.0, zorder=3)
+                if r.failed:
+                    any_fail = True
+                    ax.plot([x], [y], marker="x", markersize=15, color="black", markeredgewidth=1.5, zorder=4)
+            if ref_x is not None and np.isfinite(ref_x) and ref.integrator == integ and ref.wall_time():
+                ax.plot([max(ref_x, left)], [ref.wall_time()], marker="*", markersize=15, color="black",
+                        linestyle="none", zorder=3)
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.set_xlim(left, right)
+            if not pts:
+                empty_panel(ax, f"no {integ} run with this quantity")
+            ax.xaxis.set_minor_locator(mticker.NullLocator())
+            ax.grid(True, which="major", alpha=0.35)
+            if i == len(integrators) - 1:
+                ax.set_xlabel(xlabel, fontsize=10.5)
+            if j == 0:
+                ax.set_ylabel(f"{integ}: wall time  (s)", fontsize=10.5)
+            ax.tick_params(labelsize=9.5, labelbottom=True)
+            ax.set_title(f"{title}, {integ}" if len(integrators) > 1 else title, fontsize=12,
+                         fontweight="bold", loc="left")
+    if times:
+        lo, hi = min(times), max(times)
+        axes[0, 0].set_ylim(10.0 ** math.floor(math.log10(lo) - 0.05), 10.0 ** math.ceil(math.log10(hi) + 0.05))
+    axes[0, 0].yaxis.set_minor_locator(mticker.NullLocator())
     handles = [Line2D([], [], color=ctx.styles.style[s][0], linewidth=6, label=s) for s in ctx.styles.order]
     for c in ctx.coords:
         handles.append(Line2D([], [], marker=markers[c], color="0.3", linestyle="none", markersize=9,
@@ -1085,21 +1131,22 @@ def plot_summary(ctx):
                           linestyle="none", markersize=10, label="open: euler form"))
     if ctx.ref is not None:
         handles.append(Line2D([], [], marker="*", color="black", linestyle="none", markersize=13,
-                              label=f"reference ({ctx.ref.rep}/{ctx.ref.scheme}, "
+                              label=f"reference ({ctx.ref.rep}/{ctx.ref.scheme}, {ctx.ref.integrator}, "
                                     f"rtol {fmt_num(ctx.ref.solver.get('rtol'))})"))
     if any_fail:
         handles.append(Line2D([], [], marker="x", color="black", linestyle="none", markersize=11,
                               markeredgewidth=1.5, label="failed / interrupted (maxima up to the stop)"))
     note = (("error: the worst body's angle" if ctx.multibody else "error: angle") +
             " to the reference at the end (compare.csv); drift and energy: maxima over the whole run "
-            "(summary.json); coinciding points are drawn as concentric markers")
+            "(summary.json);\nwall time: compare.csv wall_s (median of the repeats; integration and "
+            "recording); coinciding points are drawn as concentric markers")
     if clipped:
-        note += "; values below the axis bottom (incl. exact zeros) drawn at the bottom"
+        note += "; values left of the axis (incl. exact zeros) drawn at its left edge"
     omitted = [c for c in ctx.coords if c not in ctx.constrained]
     if omitted and ctx.constrained:
-        note += "\n" + ", ".join(omitted) + " coordinates have no constraints: the drift panel omits them"
+        note += "\n" + ", ".join(omitted) + " coordinates have no constraints: the drift panels omit them"
     path = os.path.join(ctx.outdir, "summary.png")
-    return finish_figure(fig, f"{ctx.scene}: error, drift and energy error against work", ctx.subtitle(note),
+    return finish_figure(fig, f"{ctx.scene}: wall time against error, drift and energy error", ctx.subtitle(note),
                          handles, path)
 
 
@@ -1186,13 +1233,13 @@ def plot_axis_trace(ctx):
             for r in ctx.drawn_runs_of(c, e):
                 xyz = (r.data or {}).get("axis_trace")
                 if xyz is not None and len(xyz):
-                    draw_trace(ax, xyz, ctx.styles.kw(r.scheme), start=first)
+                    draw_trace(ax, xyz, ctx.styles.kw(r), start=first)
                     schemes.add(r.scheme)
                     first = False
             if ctx.ref_trace is not None:
                 draw_trace(ax, ctx.ref_trace, REF_STYLE)
                 ref_drawn = True
-            panel_title(ax, f"{c} / {e}", failure_notes(ctx.runs_of(c, e)), ctx.same_notes(c, e))
+            panel_title(ax, f"{c} / {e}", failure_notes(ctx.runs_of(c, e), ctx), ctx.same_notes(c, e))
     hs = legend_handles(ctx, schemes)
     if ref_drawn:
         hs.append(Line2D([], [], label=f"reference ({ctx.ref_source})", **REF_STYLE))
@@ -1271,22 +1318,23 @@ def main(argv=None):
         ]
     written = error_figures + [
         plot_per_representation(ctx, "drift_position", ctx.constrained, "drift_position.png",
-                                QUANTITY["drift_position"][1] + " at every IDA step"),
+                                QUANTITY["drift_position"][1] + " at every step"),
         plot_per_representation(ctx, "drift_velocity", ctx.constrained, "drift_velocity.png",
-                                QUANTITY["drift_velocity"][1] + " at every IDA step"),
+                                QUANTITY["drift_velocity"][1] + " at every step"),
         plot_multipliers(ctx),
         plot_per_representation(ctx, "energy_rel_error", ctx.coords, "energy_error.png",
-                                QUANTITY["energy_rel_error"][1] + " at every IDA step", chart_switches=True),
+                                QUANTITY["energy_rel_error"][1] + " at every step", chart_switches=True),
         plot_per_representation(ctx, "vertical_momentum_rel_error", ctx.coords, "momentum_error.png",
-                                QUANTITY["vertical_momentum_rel_error"][1] + " at every IDA step",
+                                QUANTITY["vertical_momentum_rel_error"][1] + " at every step",
                                 chart_switches=True),
         plot_per_representation(ctx, "h", ctx.coords, "step_size.png", "step size against time",
                                 chart_switches=True, mode="gmean",
                                 note=f"geometric mean of the steps in each of {smooth_bins(ctx.nbins)} time bins (a restart's "
                                      f"order-1 steps pull a bin down); chart switches as ticks"),
-        plot_per_representation(ctx, "order", ctx.coords, "order.png", "BDF order against time", log=False,
+        plot_per_representation(ctx, "order", ctx.coords, "order.png", "method order against time", log=False,
                                 mode="mean",
-                                note=f"mean order of the steps in each of {smooth_bins(ctx.nbins)} time bins"),
+                                note=f"mean order of the steps in each of {smooth_bins(ctx.nbins)} time bins (IDA and CVODE BDF: "
+                                     f"1-5, CVODE Adams: 1-12, an ARKODE table: its fixed order)"),
         plot_axis_trace(ctx),
         plot_summary(ctx),
     ]

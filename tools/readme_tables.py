@@ -3,6 +3,7 @@
 
 Usage:
     /usr/bin/python3 tools/readme_tables.py --measure   # run the measurements (about a minute), record, rewrite
+    /usr/bin/python3 tools/readme_tables.py --studies   # rerun the three studies (~15 min), their figures, rewrite
     /usr/bin/python3 tools/readme_tables.py             # rewrite README.md from the recorded results
     /usr/bin/python3 tools/readme_tables.py --check     # exit 1 if README.md differs from them (CI)
 
@@ -24,6 +25,11 @@ and rewriting its own output changes nothing. The tables:
                      docs/measured/multibody.csv (steps, wall of one run)
   study_best         the fastest run meeting each error target, from the
                      committed studies docs/studies/*/results.csv
+
+--studies reruns studies/{heavy_top,free_body,lagrange_top}.toml with today's
+binary and timings, replaces docs/studies/NAME/ (results.csv, best.md) and
+docs/figures/study_NAME_*.png|pdf (tools/plot_study.py), then rewrites the
+tables: README's study figures and study_best come from one command.
 
 --measure needs a Release build in ./build (bash tools/build.sh). Wall times
 are single runs (compare: medians of 3) on whatever machine runs it; counts and
@@ -243,9 +249,33 @@ def measure(rigidae, work):
     write_csv(os.path.join(MEASURED, "multibody.csv"), ["scene", "t_end", "steps", "wall_s", "status"], rows)
 
 
+STUDIES = ("heavy_top", "free_body", "lagrange_top")
+
+
+def rerun_studies(rigidae, work):
+    for name in STUDIES:
+        out = os.path.join(work, name)
+        print(f"readme_tables: study {name} ...", flush=True)
+        p = subprocess.run([rigidae, "study", os.path.join(ROOT, "studies", name + ".toml"), "--out", out,
+                            "--quiet", "--no-plot"], capture_output=True, text=True)
+        if p.returncode != 0:
+            sys.exit(f"readme_tables: the study {name} exited {p.returncode}:\n{p.stderr}")
+        dest = os.path.join(ROOT, "docs", "studies", name)
+        os.makedirs(dest, exist_ok=True)
+        for f in ("results.csv", "best.md"):
+            shutil.copyfile(os.path.join(out, f), os.path.join(dest, f))
+        p = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "plot_study.py"), dest, "--figures",
+                            os.path.join(ROOT, "docs", "figures"), "--prefix", "study_", "--quiet"],
+                           capture_output=True, text=True)
+        if p.returncode != 0:
+            sys.exit(f"readme_tables: plot_study.py on {dest} exited {p.returncode}:\n{p.stderr}")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--measure", action="store_true", help="run the measurements first (needs ./build/rigidae)")
+    ap.add_argument("--studies", action="store_true",
+                    help="rerun the three studies and their figures first (needs ./build/rigidae)")
     ap.add_argument("--check", action="store_true", help="exit 1 if README.md is not what the records give")
     ap.add_argument("--readme", default=os.path.join(ROOT, "README.md"))
     ap.add_argument("--rigidae", default=os.path.join(ROOT, "build", "rigidae"))
@@ -253,6 +283,9 @@ def main(argv=None):
     if a.measure:
         with tempfile.TemporaryDirectory(prefix="readme_tables.") as work:
             measure(a.rigidae, work)
+    if a.studies:
+        with tempfile.TemporaryDirectory(prefix="readme_tables.") as work:
+            rerun_studies(a.rigidae, work)
     with open(a.readme) as f:
         text = f.read()
     try:

@@ -150,9 +150,37 @@ def test_study_figures_are_faceted_and_name_identical_schemes(tmp_path):
     import plot_study
     rows = plot_study.read_results(study / "results.csv")
     same = plot_study.identical_schemes(rows, "orientation_error_final_rad")
-    assert same.get(("quaternion", "euler", "index3")) == "ggl"
-    assert same.get(("linear", "euler", "index3")) == "ggl"
-    assert not any(e == "lagrange" for (_, e, _) in same)
+    assert same.get(("quaternion", "euler", "index3", "ida")) == "ggl"
+    assert same.get(("linear", "euler", "index3", "ida")) == "ggl"
+    assert not any(e == "lagrange" for (_, e, _, _) in same)
+
+
+def test_study_figures_draw_each_integrator_as_its_own_line_with_error_on_x(tmp_path, monkeypatch):
+    """IDA's and ARKODE's runs of one scheme are two lines (never one zig-zag), told apart by
+    line style in the same colour, and a work-precision panel has the error on x and the wall
+    time on y (SciML's orientation)."""
+    import plot_study
+    import plot_compare as pc
+    rows = []
+    for integ, times in (("ida", (0.01, 0.02, 0.04)), ("arkode-erk", (0.002, 0.003, 0.005))):
+        for rtol, err, wall in zip(("1e-4", "1e-6", "1e-8"), (1e-3, 1e-5, 1e-7), times):
+            rows.append(dict(scene="s", coordinates="quaternion", equations="euler", scheme="projection",
+                             integrator=integ, rtol=rtol, atol=rtol, status="success", wall_min_s=str(wall),
+                             orientation_error_final_rad=str(err), steps="10", residual_evals="20",
+                             jacobian_residual_evals="0"))
+    kept = []
+    monkeypatch.setattr(pc, "save", lambda fig, path: kept.append(fig))
+    plot_study.draw(rows, "s", "orientation_error_final_rad", lambda r: float(r["wall_min_s"]), "wall time  (s)",
+                    "wall time against error", str(tmp_path / "wp.png"))
+    ax = kept[0].axes[0]
+    lines = [l for l in ax.get_lines() if len(l.get_xdata()) == 3]
+    assert len(lines) == 2
+    assert lines[0].get_color() == lines[1].get_color()
+    assert lines[0].get_linestyle() != lines[1].get_linestyle()
+    by_time = sorted(lines, key=lambda l: max(l.get_ydata()))
+    assert sorted(by_time[0].get_ydata()) == [0.002, 0.003, 0.005]  # ARKODE's wall times on y
+    assert sorted(by_time[1].get_xdata()) == [1e-7, 1e-5, 1e-3]  # the errors on x
+    assert "error" in ax.get_xlabel() and "wall time" in ax.get_ylabel()
 
 
 def test_solve_plot_of_a_multibody_scene(tmp_path):
