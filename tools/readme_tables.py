@@ -249,11 +249,10 @@ def measure(rigidae, work):
     write_csv(os.path.join(MEASURED, "multibody.csv"), ["scene", "t_end", "steps", "wall_s", "status"], rows)
 
 
-STUDIES = ("heavy_top", "free_body", "lagrange_top")
 
 
 def rerun_studies(rigidae, work):
-    for name in STUDIES:
+    for name, _ in STUDIES:
         out = os.path.join(work, name)
         print(f"readme_tables: study {name} ...", flush=True)
         p = subprocess.run([rigidae, "study", os.path.join(ROOT, "studies", name + ".toml"), "--out", out,

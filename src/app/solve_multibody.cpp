@@ -184,6 +184,27 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
     if (!rr.dropped.empty()) o.note += fmt::format(", {} redundant rows set aside", rr.dropped.size());
     j["note"] = o.note;
   }
+  // An assembled start (multibody/assembly.hpp): what was held, the misses
+  // before and after, and how far each other body was moved.
+  if (const multibody::AssemblyReport& ar = problem.assembly(); ar.done) {
+    nlohmann::json held = nlohmann::json::array(), moved = nlohmann::json::array();
+    for (int b : ar.held) held.push_back(scene.multibody->bodies[b].name);
+    for (const multibody::AssembledBody& a : ar.bodies)
+      moved.push_back({{"body", scene.multibody->bodies[a.body].name},
+                       {"moved_m", a.moved_m},
+                       {"turned_rad", a.turned_rad},
+                       {"velocity_change_m_s", a.velocity_change},
+                       {"angular_velocity_change_rad_s", a.angular_velocity_change}});
+    j["assembly"] = {{"held", held},
+                     {"iterations", ar.iterations},
+                     {"initial_miss", ar.initial_miss},
+                     {"final_miss", ar.final_miss},
+                     {"initial_velocity_miss", ar.initial_velocity_miss},
+                     {"final_velocity_miss", ar.final_velocity_miss},
+                     {"bodies", moved}};
+    o.note += "; " + ar.note;
+    j["note"] = o.note;
+  }
   add_provenance(j);  // "build" and "run"
   o.start_warnings = problem.warnings();  // printed by the command (solve: each run; compare: once)
   try {

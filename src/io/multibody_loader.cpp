@@ -50,7 +50,7 @@ constexpr std::array<std::string_view, 16> kRootKeys{
     "schema_version", "name",    "description", "start_tolerance", "reference",   "bodies",  "joints",
     "springs",        "loads",   "gravity",     "time",            "output",      "formulation", "solver",
     "expected_dof",   "mechanism"};
-constexpr std::array<std::string_view, 1> kMechanismKeys{"expected_dof"};
+constexpr std::array<std::string_view, 3> kMechanismKeys{"expected_dof", "assemble", "hold"};
 constexpr std::array<std::string_view, 14> kBodyKeys{
     "name",     "mass",  "inertia_principal", "inertia",    "inertia_axes", "position",         "quaternion",
     "euler",    "matrix", "axis_angle",       "velocity",   "angular_velocity", "angular_velocity_frame",
@@ -485,6 +485,7 @@ class MultibodyReader {
                                 type_name(*m)));
       r_.check_keys(*t, "mechanism", kMechanismKeys, sections());
       in_table = t->get("expected_dof");
+      read_assembly(*t, spec);
       if (top && in_table)
         r_.fail(*in_table, fmt::format("expected_dof is given twice: at the top level (line {}) and in [mechanism]; "
                                        "keep one",
@@ -500,6 +501,44 @@ class MultibodyReader {
                               name, v, most, spec.bodies.size()));
     spec.expected_dof = static_cast<int>(v);
     spec.expected_dof_where = where(*n);
+  }
+
+  // [mechanism] assemble = true and/or hold = ["body", ...]: the start
+  // assembles the mechanism from the given poses (guesses), keeping the held
+  // bodies' poses and velocities (multibody/assembly.hpp).
+  void read_assembly(const toml::table& t, MultibodySpec& spec) {
+    const toml::node* assemble = t.get("assemble");
+    const toml::node* hold = t.get("hold");
+    if (assemble) {
+      spec.assembly.requested = r_.boolean(*assemble, "mechanism.assemble");
+      spec.assembly.where = where(*assemble);
+    }
+    if (!hold) return;
+    if (assemble && !spec.assembly.requested)
+      r_.fail(*hold, "'mechanism.hold' names bodies whose poses an assembled start keeps, but 'mechanism.assemble' "
+                     "= false: set assemble = true or leave it out");
+    const toml::array* a = hold->as_array();
+    if (!a || a->empty())
+      r_.fail(*hold, fmt::format("'mechanism.hold' must be a non-empty array of body names (e.g. [\"crank\"]), "
+                                 "not {}",
+                                 a ? "an empty array" : type_name(*hold)));
+    std::vector<char> seen(spec.bodies.size(), 0);
+    for (std::size_t k = 0; k < a->size(); ++k) {
+      const std::string key = fmt::format("mechanism.hold[{}]", k);
+      if (r_.string(*a->get(k), key) == kGroundName)
+        r_.fail(*a->get(k), fmt::format("'{}' = \"ground\": the ground never moves; hold names bodies", key));
+      const int b = body_index(*a->get(k), key, false);
+      if (seen[static_cast<std::size_t>(b)])
+        r_.fail(*a->get(k), fmt::format("'{}' = \"{}\" is held twice", key, body_names_[static_cast<std::size_t>(b)]));
+      seen[static_cast<std::size_t>(b)] = 1;
+      spec.assembly.held.push_back(b);
+    }
+    if (spec.assembly.held.size() == spec.bodies.size())
+      r_.fail(*hold, "'mechanism.hold' holds every body: nothing is left to assemble (hold the driving bodies, "
+                     "e.g. the crank, and let the others follow)");
+    std::sort(spec.assembly.held.begin(), spec.assembly.held.end());
+    spec.assembly.requested = true;
+    if (!assemble) spec.assembly.where = where(*hold);
   }
 
   // --- joints ----------------------------------------------------------------

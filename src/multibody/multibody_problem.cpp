@@ -29,6 +29,9 @@ std::pair<double, double> gains(const Scene& scene, const MultibodySpec& spec) {
 }  // namespace
 
 MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody) {
+  // An assembled start moves the guessed poses onto the joints first: the
+  // rank analysis and everything after it see the assembled mechanism.
+  assembly_ = assemble_start(spec_);
   const auto [ga, gb] = gains(scene, spec_);
   scheme_ = make_block_scheme(scene.formulation.scheme, ga, gb);
   switch_threshold_ = scene.formulation.euler.switch_threshold;

@@ -90,6 +90,15 @@ struct BodyLoadSpec {
   SourcePosition where;
 };
 
+// An assembled start ([mechanism] assemble / hold): the bodies' initial poses
+// and velocities are guesses that the start moves onto the joints, keeping the
+// held bodies' as given (multibody/assembly.hpp).
+struct AssemblySpec {
+  bool requested = false;
+  std::vector<int> held;  // indices into bodies, in the scene's order
+  SourcePosition where;   // the [mechanism] key that asked for it
+};
+
 struct MultibodySpec {
   std::vector<BodySpec> bodies;
   std::vector<JointSpec> joints;
@@ -107,6 +116,7 @@ struct MultibodySpec {
   // [mechanism]); a start whose rank mobility differs warns.
   std::optional<int> expected_dof;
   SourcePosition expected_dof_where;
+  AssemblySpec assembly;
 };
 
 }  // namespace rigidae

@@ -60,6 +60,7 @@
 #include "rigidae/coords/representation.hpp"
 #include "rigidae/model/recorded_parts.hpp"
 #include "rigidae/model/scene.hpp"
+#include "rigidae/multibody/assembly.hpp"
 #include "rigidae/multibody/block_scheme.hpp"
 #include "rigidae/multibody/constraint_rows.hpp"
 #include "rigidae/multibody/jacobian_sink.hpp"
@@ -167,6 +168,8 @@ class MultibodyProblem final : public DaeProblem {
   const MultibodySpec& spec() const { return spec_; }
   // The start's rank analysis: redundant rows set aside, mobility.
   const RedundancyReport& redundancy() const { return redundancy_; }
+  // What an assembled start ([mechanism] assemble / hold) did; done = false without one.
+  const AssemblyReport& assembly() const { return assembly_; }
   // "JOINT.ROW" of a dropped row, with the joint's file:line:col.
   std::string dropped_row_source(int k) const;
   // Largest |Phi| and |G v| of the dropped rows at y (0 when none).
@@ -269,6 +272,7 @@ class MultibodyProblem final : public DaeProblem {
   std::string row_label(int block, int row) const;
 
   MultibodySpec spec_;
+  AssemblyReport assembly_;
   BlockScheme scheme_;
   double switch_threshold_ = 0.1;
   bool switching_ = true;
