@@ -14,7 +14,7 @@ link(k-1) and link(k) at ((k - 1) L, 0, 0).
              share one angular velocity and each centre moves at w x r), so
              it falls and swings in 3D.
 Gravity -9.81 m/s^2 along z. About 340 bytes per link: the file stays
-under the loader's scene size limit (1 MiB) up to about 3000 links.
+under the loader's scene size limit (64 MiB) up to about 190,000 links.
 """
 import argparse
 import pathlib
@@ -114,8 +114,8 @@ def main() -> None:
     out.write_text(chain(args.links, args.joint, args.length, args.mass, args.spin, args.end, args.output_step))
     size = out.stat().st_size
     print(f"{out}: {args.links} links, {args.joint} joints, {size} bytes")
-    if size > 1 << 20:
-        print(f"make_chain.py: warning: {out} is larger than the 1 MiB (1048576 bytes) a scene file may have; "
+    if size > 64 << 20:
+        print(f"make_chain.py: warning: {out} is larger than the 64 MiB (67108864 bytes) a scene file may have; "
               "rigidae will refuse it", file=sys.stderr)
 
 

@@ -133,7 +133,9 @@ constexpr double kMaxAngularVelocity = 1e6;      // rad/s
 constexpr double kMaxGravity = 1e4;              // m/s^2
 constexpr double kMaxCenterOfMass = 1e6;         // m
 constexpr std::size_t kMaxNameBytes = 100;       // the name becomes part of the default output folder
-constexpr std::size_t kMaxSceneBytes = 1 << 20;  // a scene is a few hundred bytes; a bigger file is a mistake
+// A one-body scene is a few hundred bytes and a 10,000-link chain about 5 MB
+// (tools/make_chain.py); a bigger file is a mistake (or a device).
+constexpr std::size_t kMaxSceneBytes = std::size_t{64} << 20;
 
 constexpr double kInertiaSymmetryTol = 1e-12;    // relative
 constexpr double kTriangleTol = 1e-12;           // relative to the trace
