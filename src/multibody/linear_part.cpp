@@ -49,10 +49,15 @@ void MultibodyProblem::linear_part_sparse(double t, const double* y, double* val
   assemble_linear_part(t, y, *sink_);
 }
 
-void MultibodyProblem::follow_torsion(double t, const double* y) {
-  if (torsions_.empty()) return;
+void MultibodyProblem::follow_motion(double t, const double* y) {
+  if (!forces_follow_motion_) return;
   evaluate(t, y, 2);
-  follow_torsion_angles();
+  follow_force_elements();
+}
+
+void MultibodyProblem::follow_force_elements() {
+  for (const auto& f : forces_)
+    if (f->follows_motion()) f->follow(force_bodies_);
 }
 
 }  // namespace rigidae::multibody

@@ -58,27 +58,32 @@ JointReaction MultibodyProblem::joint_reaction(int joint, const double* y) {
     pb = e[1].value;
   }
   VectorEval ta, tb;
+  // What each multiplier is, the row states (model/constraint_row.hpp).
   for (int r = 0; r < blk.nr; ++r) {
     const ConstraintRow& row = blk.rows[r];
-    if (row.n_terms == 2 && row.terms[0].a.point && row.terms[0].b.body == kGround && !row.terms[0].b.point &&
-        row.terms[1].a.point) {
-      // Coincident points: p_a . e_k - p_b . e_k.
-      out.force += lambda[r] * row.terms[0].b.s;
-    } else if (row.n_terms == 2) {
-      // Point on a line: p_b . n - p_a . n, n fixed in a.
-      const BodyVector& n = row.terms[0].b;
-      Vec3 nw = n.s;
-      if (n.body != kGround) {
-        evaluate_vector(work_[n.body].st, n, ta);
-        nw = ta.value;
+    switch (row.reaction) {
+      case RowReaction::Point:  // p_a . e_k - p_b . e_k
+        out.force += lambda[r] * row.terms[0].b.s;
+        break;
+      case RowReaction::Line: {  // p_b . n - p_a . n, n fixed in a
+        const BodyVector& n = row.terms[0].b;
+        Vec3 nw = n.s;
+        if (n.body != kGround) {
+          evaluate_vector(work_[n.body].st, n, ta);
+          nw = ta.value;
+        }
+        out.force -= lambda[r] * nw;
+        break;
       }
-      out.force -= lambda[r] * nw;
-    } else {
-      const DotTerm& t = row.terms[0];
-      Vec3 da = t.a.s, db = t.b.s;
-      if (t.a.body != kGround) evaluate_vector(work_[t.a.body].st, t.a, ta), da = ta.value;
-      if (t.b.body != kGround) evaluate_vector(work_[t.b.body].st, t.b, tb), db = tb.value;
-      out.torque += lambda[r] * da.cross(db);
+      case RowReaction::Turn: {  // d_a . d_b
+        const DotTerm& t = row.terms[0];
+        Vec3 da = t.a.s, db = t.b.s;
+        if (t.a.body != kGround) evaluate_vector(work_[t.a.body].st, t.a, ta), da = ta.value;
+        if (t.b.body != kGround) evaluate_vector(work_[t.b.body].st, t.b, tb), db = tb.value;
+        out.torque += lambda[r] * da.cross(db);
+        break;
+      }
+      case RowReaction::Coordinate: break;  // not a constraint row
     }
   }
   // A point-on-line force acts at p_b; on a it acts at p_b too, so moved to p_a
@@ -126,31 +131,32 @@ double MultibodyProblem::kinetic_energy(const double* y) const {
   return T;
 }
 
-// Gravity, springs, torsional springs, and constant space forces (their potential -F . x).
+// The force elements' potentials: the fields' (gravity, constant space
+// forces) summed first, then the elastic ones.
 double MultibodyProblem::potential_energy(const double* y) {
+  if (y != evaluated_y_) evaluate(0.0, y, 2);
+  const double* keep = evaluated_y_;
+  evaluated_y_ = y;
   double V = 0.0;
-  for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) V -= bodies_[i].mass * spec_.gravity_W.dot(body_position(i, y));
-  for (const BodyLoadSpec& l : spec_.loads)
-    if (!l.body_frame) V -= l.force.dot(body_position(l.body, y));
-  return V + elastic_energy(y);
+  for (const auto& f : forces_)
+    if (!f->elastic()) V += f->potential_energy(force_bodies_);
+  V += elastic_energy(y);
+  evaluated_y_ = keep;
+  return V;
 }
 
 double MultibodyProblem::elastic_energy(const double* y) {
-  double V = 0.0;
   if (y != evaluated_y_) evaluate(0.0, y, 2);
-  VectorEval e;
-  for (const SpringSpec& s : spec_.springs) {
-    Vec3 p[2] = {s.point_a, s.point_b};
-    const int body[2] = {s.body_a, s.body_b};
-    for (int k = 0; k < 2; ++k)
-      if (body[k] != kGround) {
-        evaluate_vector(work_[body[k]].st, {body[k], p[k], true}, e);
-        p[k] = e.value;
-      }
-    const double stretch = (p[1] - p[0]).norm() - s.rest_length;
-    V += 0.5 * s.stiffness * stretch * stretch;
-  }
-  return V + torsion_potential_energy();
+  double V = 0.0;
+  for (const auto& f : forces_)
+    if (f->elastic()) V += f->potential_energy(force_bodies_);
+  return V;
+}
+
+bool MultibodyProblem::conserves_energy() const {
+  for (const auto& f : forces_)
+    if (!f->conservative()) return false;
+  return true;
 }
 
 Vec3 MultibodyProblem::linear_momentum(const double* y) const {

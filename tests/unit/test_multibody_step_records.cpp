@@ -92,9 +92,9 @@ Scene hanging_chain(Coordinates c, Equations e, const std::string& scheme) {
   s.name = "hanging_chain";
   MultibodySpec& m = *s.multibody;
   m.bodies = {hanging("upper", 2.0, Vec3(0, 0, -0.5)), hanging("lower", 3.0, Vec3(0, 0, -1.5))};
-  m.joints.push_back(test::joint_at(m, JointType::Spherical, kGround, 0, Vec3::Zero(), Vec3::UnitZ(), Vec3::UnitX(),
+  m.joints.push_back(test::joint_at(m, &joint_type("spherical"), kGround, 0, Vec3::Zero(), Vec3::UnitZ(), Vec3::UnitX(),
                                     "shoulder"));
-  m.joints.push_back(test::joint_at(m, JointType::Spherical, 0, 1, Vec3(0, 0, -1), Vec3::UnitZ(), Vec3::UnitX(),
+  m.joints.push_back(test::joint_at(m, &joint_type("spherical"), 0, 1, Vec3(0, 0, -1), Vec3::UnitZ(), Vec3::UnitX(),
                                     "elbow"));
   m.gravity_W = Vec3(0, 0, -9.81);
   s.solver.rtol = s.solver.atol = 1e-9;
@@ -166,7 +166,7 @@ TEST_CASE("mechanism steps: a swinging near-point-mass pendulum's rod tension is
   b.where = {"built_in.toml", 2, 1};
   mb.bodies = {b};
   mb.joints.push_back(
-      test::joint_at(mb, JointType::Revolute, kGround, 0, Vec3::Zero(), Vec3::UnitY(), Vec3::UnitX(), "pivot"));
+      test::joint_at(mb, &joint_type("revolute"), kGround, 0, Vec3::Zero(), Vec3::UnitY(), Vec3::UnitX(), "pivot"));
   mb.gravity_W = Vec3(0, 0, -g);
   s.solver.rtol = s.solver.atol = 1e-10;
   s.time = {0.0, 2.0, 0.1};
@@ -196,7 +196,7 @@ TEST_CASE("mechanism steps: the reactions of a step that is an output time equal
   // interpolation): a second run whose output.times are some of the first
   // run's step times takes the same steps, and the interpolant at a step's
   // own time is that step's state. The two files' reactions must then agree.
-  Scene s = test::two_body_chain(JointType::Revolute, Coordinates::Quaternion, Equations::Euler, "ggl");
+  Scene s = test::two_body_chain(&joint_type("revolute"), Coordinates::Quaternion, Equations::Euler, "ggl");
   s.time = {0.0, 0.3, 0.1};
   s.solver.rtol = s.solver.atol = 1e-8;
   const fs::path first = test::fresh_temp_dir("mb_grid_first");
@@ -275,7 +275,7 @@ TEST_CASE("mechanism steps: steps.npy holds the columns and numbers of steps.csv
 TEST_CASE("mechanism steps: recording a step with every part's columns allocates nothing") {
   // The row of per-part numbers and the text buffer are kept from step to
   // step; once they have grown to a row's length, a step costs no heap.
-  Scene s = test::two_body_chain(JointType::Revolute, Coordinates::Quaternion, Equations::Lagrange, "ggl");
+  Scene s = test::two_body_chain(&joint_type("revolute"), Coordinates::Quaternion, Equations::Lagrange, "ggl");
   multibody::MultibodyProblem p(s);
   Eigen::VectorXd y(p.size()), yp(p.size());
   p.initial_state(0.0, y, yp);
