@@ -325,6 +325,8 @@ void MultibodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
   yp = yp0_;
   // Force elements' own state (a torsion angle starts on its principal branch).
   for (const auto& f : forces_) f->reset();
+  // Joint angles start on their principal branch (-pi, pi] too.
+  for (CoordinateTrack& c : coordinates_) c.reference = 0.0;
   make_consistent(t0, y, yp);
 }
 

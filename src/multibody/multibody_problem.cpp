@@ -154,6 +154,18 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
   drift_memo_y_.resize(n_);
 
   block_eval_.resize(blocks_.size());
+  // Every joint's coordinates (model/joint_type.hpp), joint by joint.
+  for (int j = 0; j < static_cast<int>(spec_.joints.size()); ++j) {
+    first_coordinate_.push_back(static_cast<int>(coordinates_.size()));
+    for (const JointCoordinate& c : spec_.joints[j].type->coordinates) {
+      CoordinateTrack t;
+      t.joint = j;
+      t.def = &c;
+      c.rows(spec_.joints[j], t.rows);
+      coordinates_.push_back(t);
+    }
+  }
+  first_coordinate_.push_back(static_cast<int>(coordinates_.size()));
   forces_ = make_force_elements(spec_);
   for (const auto& f : forces_) forces_follow_motion_ = forces_follow_motion_ || f->follows_motion();
   force_bodies_.gravity_W = spec_.gravity_W;

@@ -91,7 +91,7 @@ StepAction MultibodyProblem::on_event(double t, double h, Eigen::VectorXd& y, Ei
 
 StepAction MultibodyProblem::after_step(double t, double h, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
   StepAction a;
-  if (forces_follow_motion_) {
+  if (forces_follow_motion_ || !coordinates_.empty()) {
     evaluate(t, y.data(), 2);  // order 2: the Lagrange form's bias terms of the rows
     follow_force_elements();
   }

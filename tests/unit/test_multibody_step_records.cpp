@@ -124,7 +124,7 @@ TEST_CASE("mechanism steps: a chain hanging at rest carries the weight below eac
     // Every joint's multipliers by row name, its reaction and its drift.
     for (const char* joint : {"shoulder", "elbow"})
       for (const char* c : {".lambda_x", ".lambda_y", ".lambda_z", ".force_x", ".force_y", ".force_z", ".torque_x",
-                            ".torque_y", ".torque_z", ".phi", ".phi_dot"})
+                            ".torque_y", ".torque_z", ".residual_position", ".residual_velocity"})
         CHECK_MESSAGE(t.has(std::string(joint) + c), joint << c);
     // A body's own constraints: the Lagrange form's quaternion norm is held by
     // a force (lambda), the Euler form's kept by the kinematics (mu).
@@ -141,8 +141,8 @@ TEST_CASE("mechanism steps: a chain hanging at rest carries the weight below eac
       CHECK(row[t.col("elbow.force_x")] == doctest::Approx(0.0).epsilon(1e-7).scale(30));
       for (const char* c : {"shoulder.torque_x", "shoulder.torque_y", "shoulder.torque_z", "elbow.torque_x"})
         CHECK(row[t.col(c)] == doctest::Approx(0.0).epsilon(1e-7).scale(50));
-      CHECK(row[t.col("shoulder.phi")] < 1e-8);
-      CHECK(row[t.col("elbow.phi")] < 1e-8);
+      CHECK(row[t.col("shoulder.residual_position")] < 1e-8);
+      CHECK(row[t.col("elbow.residual_position")] < 1e-8);
     }
   }
 }
@@ -219,7 +219,7 @@ TEST_CASE("mechanism steps: the reactions of a step that is an output time equal
       if (r[0] == g[0]) row = &r;
     REQUIRE((*row)[0] == g[0]);
     for (const char* joint : {"j0", "j1"})
-      for (const char* c : {".force_x", ".force_y", ".force_z", ".torque_x", ".torque_y", ".torque_z", ".phi_dot"}) {
+      for (const char* c : {".force_x", ".force_y", ".force_z", ".torque_x", ".torque_y", ".torque_z", ".residual_velocity"}) {
         const std::string name = std::string(joint) + c;
         CAPTURE(name);
         CHECK((*row)[again.col(name)] == doctest::Approx(g[grid.col(name)]).epsilon(1e-9).scale(1e-6));

@@ -184,7 +184,9 @@ class MultibodyProblem final : public DaeProblem {
   Vec3 angular_momentum(const double* y) const;  // about the space origin
   // One output row: per body (BODY.qw .. qz, BODY.wx .. wz in space,
   // BODY.x .. z, BODY.vx .. vz), per joint (JOINT.force_x .. z, JOINT.torque_x
-  // .. z on body b in space, JOINT.phi = |Phi|, JOINT.phi_dot = |G v|), then
+  // .. z on body b in space, JOINT.residual_position = |Phi|,
+  // JOINT.residual_velocity = |G v|, then per coordinate of its type
+  // JOINT.<coordinate>, JOINT.<coordinate>_rate), then
   // energy, linear momentum p_x .. p_z and angular momentum L_x .. L_z about
   // the origin. Names and units in the same order.
   std::vector<std::string> output_names() const;
@@ -198,8 +200,8 @@ class MultibodyProblem final : public DaeProblem {
   // A step row's per-part columns (reporting.cpp), after the global ones: per
   // chosen body with constraints of its own BODY.lambda_<row> / BODY.mu_<row>
   // (its multipliers), per chosen joint JOINT.lambda_<row> / JOINT.mu_<row>,
-  // JOINT.force_x..z, JOINT.torque_x..z (as output_row) and JOINT.phi,
-  // JOINT.phi_dot. `parts` lists bodies and joints in the scene's order.
+  // JOINT.force_x..z, JOINT.torque_x..z, the residuals and the coordinates
+  // (as output_row). `parts` lists bodies and joints in the scene's order.
   std::vector<std::string> step_part_names(const RecordedParts& parts) const;
   std::vector<std::string> step_part_units(const RecordedParts& parts) const;
   // Fills out[0 .. step_part_names(parts).size()); allocates nothing.
