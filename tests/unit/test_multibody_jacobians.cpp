@@ -23,9 +23,6 @@ namespace {
 
 const Coordinates kCoordinates[] = {Coordinates::EulerAngles, Coordinates::Quaternion, Coordinates::Linear};
 const Equations kEquations[] = {Equations::Lagrange, Equations::Euler};
-const JointType* const kJoints[] = {&joint_type("spherical"), &joint_type("revolute"),    &joint_type("universal"),
-                             &joint_type("prismatic"), &joint_type("cylindrical"), &joint_type("fixed")};
-
 // Row-relative largest difference (rows are equations with their own units).
 double row_relative_difference(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
   double worst = 0.0;
@@ -79,7 +76,7 @@ TEST_CASE("multibody: exact iteration matrix = differences, every joint x repres
   std::mt19937 rng(4242);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   double worst = 0.0, worst_start_residual = 0.0;
-  for (const JointType* jt : kJoints)
+  for (const JointType* jt : joint_types())  // every registered type (model/joint_type.hpp)
     for (Coordinates c : kCoordinates)
       for (Equations e : kEquations)
         for (const std::string& scheme : scheme_names()) {
