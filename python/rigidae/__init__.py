@@ -251,13 +251,33 @@ class Run(_RunOutcome):
                 f"t = {self.summary['t_reached']:g} s, {c['steps']} steps, {self.summary['wall_time_s']:.3g} s>")
 
 
+# A joint's one-number columns: residuals and coordinates (JOINT.angle, ...).
+_JOINT_VECTOR_COLUMNS = {"force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z"}
+
+
+def _joint_scalars(table, name):
+    prefix = name + "."
+    out = {}
+    for column in table.dtype.names:
+        if not column.startswith(prefix):
+            continue
+        key = column[len(prefix):]
+        if key in _JOINT_VECTOR_COLUMNS or key.startswith(("lambda_", "mu_")):
+            continue
+        out[key] = table[column]
+    return out
+
+
 class MultibodyRun(_RunOutcome):
     """One run of a multibody scene (schema_version 2), in memory.
 
     grid       numpy structured array on the output grid: the columns of the
                CLI's trajectory.csv (t, BODY.qw..qz, BODY.wx..wz in space,
                BODY.x..z, BODY.vx..vz, JOINT.force_x..z and torque_x..z on
-               the joint's second body in space, JOINT.phi, JOINT.phi_dot,
+               the joint's second body in space, JOINT.residual_position,
+               JOINT.residual_velocity, the joint's coordinates JOINT.angle,
+               JOINT.displacement (angle_a, angle_b for a universal joint)
+               and their rates JOINT.*_rate,
                energy, p_x..p_z, L_x..L_z); None when record="none"
     steps      per IDA step, the columns of steps.csv: t, h, order,
                drift_position, drift_velocity, energy, energy_rel_error, then
@@ -265,7 +285,8 @@ class MultibodyRun(_RunOutcome):
                (BODY.lambda_*, BODY.mu_*) and per recorded joint its
                multipliers (JOINT.lambda_<row>, JOINT.mu_<row>), reaction
                (JOINT.force_x..z, JOINT.torque_x..z on the second body, space
-               frame) and drift (JOINT.phi, JOINT.phi_dot); the scene's
+               frame), drift (JOINT.residual_position, JOINT.residual_velocity)
+               and coordinates (JOINT.angle, ..., as grid's); the scene's
                [output] bodies / joints choose the parts (by default all of
                a mechanism of at most 50 joints, none of a larger one);
                None unless record="steps". summary["multipliers_error_controlled"]
@@ -275,8 +296,12 @@ class MultibodyRun(_RunOutcome):
     bodies, joints   names, in the scene's order
     body(name)  {"t", "q" (n x 4, scalar first), "omega" (n x 3, rad/s, space),
                  "x" (n x 3, m), "v" (n x 3, m/s)} from the grid
-    joint(name) {"t", "force" (n x 3, N), "torque" (n x 3, N m), "phi", "phi_dot"}:
-                 the reaction on the joint's second body, in space, on the grid
+    joint(name) {"t", "force" (n x 3, N), "torque" (n x 3, N m), "residual_position",
+                 "residual_velocity", and its coordinates: "angle", "angle_rate" (rad,
+                 rad/s; revolute, cylindrical), "displacement", "displacement_rate"
+                 (m, m/s; prismatic, cylindrical), "angle_a", "angle_b" and rates
+                 (universal)}: the reaction on the joint's second body, in space,
+                 on the grid
     joint_steps(name)  the same at every IDA step (from steps)
     summary    status, message, t_reached, counters, linear_solver (the one
                used), unknowns, start_warnings, multipliers_error_controlled,
@@ -318,7 +343,7 @@ class MultibodyRun(_RunOutcome):
             raise KeyError(f"{name!r} is not a joint of this scene; joints: {', '.join(self.joints)}")
         return {"t": self.grid["t"], "force": self._columns(name, ["force_x", "force_y", "force_z"]),
                 "torque": self._columns(name, ["torque_x", "torque_y", "torque_z"]),
-                "phi": self.grid[f"{name}.phi"], "phi_dot": self.grid[f"{name}.phi_dot"]}
+                **_joint_scalars(self.grid, name)}
 
     def joint_steps(self, name):
         if name not in self.joints:
@@ -331,7 +356,7 @@ class MultibodyRun(_RunOutcome):
         cols = lambda names: np.column_stack([self.steps[f"{name}.{n}"] for n in names])
         return {"t": self.steps["t"], "force": cols(["force_x", "force_y", "force_z"]),
                 "torque": cols(["torque_x", "torque_y", "torque_z"]),
-                "phi": self.steps[f"{name}.phi"], "phi_dot": self.steps[f"{name}.phi_dot"]}
+                **_joint_scalars(self.steps, name)}
 
     def __repr__(self):
         return (f"<rigidae.MultibodyRun {len(self.bodies)} bodies, {len(self.joints)} joints: {self.status}, "

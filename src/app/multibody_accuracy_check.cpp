@@ -30,15 +30,12 @@ double mechanism_size(const MultibodySpec& spec) {
 
 }  // namespace
 
+// Every force element says whether it is conservative (an undamped spring,
+// gravity and constant space forces are; dampers, follower loads and torques
+// are not): multibody/force_element.hpp.
 bool multibody_conserves_energy(const MultibodySpec& spec) {
-  for (const BodyLoadSpec& l : spec.loads)
-    if (l.body_frame || l.torque.norm() > 0.0) return false;
-  for (const SpringSpec& s : spec.springs)
-    if (s.damping != 0.0) return false;
-  // An undamped torsional spring has its potential in potential_energy (elastic_energy);
-  // a damper dissipates c theta'^2.
-  for (const JointSpec& j : spec.joints)
-    if (j.torsion_damping != 0.0) return false;
+  for (const auto& f : multibody::make_force_elements(spec))
+    if (!f->conservative()) return false;
   return true;
 }
 

@@ -57,9 +57,21 @@ constexpr std::array<std::string_view, 14> kBodyKeys{
     "coordinates"};
 constexpr std::array<std::string_view, 3> kEulerKeys{"sequence", "convention", "angles"};
 constexpr std::array<std::string_view, 2> kAxisAngleKeys{"axis", "angle"};
-constexpr std::array<std::string_view, 15> kJointKeys{
-    "name",    "type",     "bodies",   "frame",    "point",     "axis",    "axis_a",    "axis_b",
-    "point_a", "point_b",  "normal_a", "normal_b", "stiffness", "damping", "rest_angle"};
+constexpr std::array<std::string_view, 12> kJointGeometryKeys{
+    "name",    "type",    "bodies",   "frame",    "point",   "axis",
+    "axis_a",  "axis_b",  "point_a",  "point_b",  "normal_a", "normal_b"};
+// [[joints]]'s keys: the geometry, and the keys of the force elements the
+// registered joint types carry (model/joint_type.hpp), each once.
+const std::vector<std::string_view>& joint_keys() {
+  static const std::vector<std::string_view> keys = [] {
+    std::vector<std::string_view> k(kJointGeometryKeys.begin(), kJointGeometryKeys.end());
+    for (const JointType* t : joint_types())
+      for (std::string_view f : t->force_keys)
+        if (std::find(k.begin(), k.end(), f) == k.end()) k.push_back(f);
+    return k;
+  }();
+  return keys;
+}
 constexpr std::array<std::string_view, 8> kSpringKeys{"name",    "bodies",    "frame",   "point_a",
                                                       "point_b", "stiffness", "damping", "rest_length"};
 constexpr std::array<std::string_view, 4> kLoadKeys{"body", "force", "torque", "frame"};
@@ -67,20 +79,23 @@ constexpr std::array<std::string_view, 4> kLoadKeys{"body", "force", "torque", "
 constexpr std::array<std::string_view, 2> kOutputPartKeys{"bodies", "joints"};
 
 // Schema 2's own tables; the shared ones are added from scene_loader.cpp.
-const std::array<SectionKeys, 8> kOwnSections{{
+std::array<SectionKeys, 8> own_sections() {
+  return {{
     {"", kRootKeys},
     {"mechanism", kMechanismKeys},
     {"bodies", kBodyKeys},
     {"bodies.euler", kEulerKeys},
     {"bodies.axis_angle", kAxisAngleKeys},
-    {"joints", kJointKeys},
+    {"joints", joint_keys()},
     {"springs", kSpringKeys},
     {"loads", kLoadKeys},
-}};
+  }};
+}
 
 const std::vector<SectionKeys>& sections() {
   static const std::vector<SectionKeys> all = [] {
-    std::vector<SectionKeys> v(kOwnSections.begin(), kOwnSections.end());
+    const std::array<SectionKeys, 8> own = own_sections();
+    std::vector<SectionKeys> v(own.begin(), own.end());
     const auto shared = shared_sections();
     v.insert(v.end(), shared.begin(), shared.end());
     return v;
@@ -88,11 +103,6 @@ const std::vector<SectionKeys>& sections() {
   return all;
 }
 
-constexpr std::array<std::string_view, 6> kJointTypes{"spherical",  "revolute",    "universal",
-                                                      "prismatic",  "cylindrical", "fixed"};
-constexpr std::array<JointType, 6> kJointTypeValues{JointType::Spherical, JointType::Revolute,
-                                                    JointType::Universal, JointType::Prismatic,
-                                                    JointType::Cylindrical, JointType::Fixed};
 constexpr std::array<std::string_view, 2> kFrames{"space", "body"};
 constexpr std::string_view kGroundName = "ground";
 
@@ -114,6 +124,19 @@ constexpr double kPerpendicularSilent = 1e-12;
 constexpr double kMinSpringLength = 1e-9;  // m
 // Relative singular-value threshold when counting independent joint conditions.
 constexpr double kRankTol = 1e-9;
+
+// Keys of the force elements joint types carry, and the types that carry one.
+bool is_force_key(std::string_view k) {
+  for (const JointType* t : joint_types())
+    if (std::find(t->force_keys.begin(), t->force_keys.end(), k) != t->force_keys.end()) return true;
+  return false;
+}
+std::vector<std::string_view> types_carrying(std::string_view k) {
+  std::vector<std::string_view> out;
+  for (const JointType* t : joint_types())
+    if (std::find(t->force_keys.begin(), t->force_keys.end(), k) != t->force_keys.end()) out.push_back(t->name);
+  return out;
+}
 
 std::string fmt_vec6(const Vec3& v) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", v[0], v[1], v[2]); }
 std::string item(std::string_view array, std::size_t i) { return fmt::format("{}[{}]", array, i); }
@@ -551,7 +574,7 @@ class MultibodyReader {
   JointSpec read_joint(const toml::table& t, std::size_t i) {
     const std::string prefix = item("joints", i);
     const auto key = [&](std::string_view k) { return join_key(prefix, k); };
-    r_.check_keys(t, "joints", kJointKeys, sections());
+    r_.check_keys(t, "joints", joint_keys(), sections());
     JointSpec j;
     j.where = where(t);
     const toml::node* name_node = t.get("name");
@@ -559,17 +582,21 @@ class MultibodyReader {
     if (name_node) check_part_name(r_, *name_node, key("name"), j.name);
     claim_name(name_node, t, "joint", j.name);
 
-    const toml::node& type_node = r_.required(t, "joints", "type", quoted_list(kJointTypes));
-    const std::size_t type = r_.choice(type_node, key("type"), kJointTypes);
-    j.type = kJointTypeValues[type];
-    const std::string_view type_name = kJointTypes[type];
+    // The types and their keys: the registry's (model/joint_type.hpp).
+    const std::vector<std::string_view> type_names = joint_type_names();
+    const toml::node& type_node = r_.required(t, "joints", "type", quoted_list(type_names));
+    j.type = joint_types()[r_.choice(type_node, key("type"), type_names)];
+    const std::string_view type_name = j.type->name;
     std::tie(j.body_a, j.body_b) = body_pair(t, prefix, "joints");
     bool body_frame = false;
     if (const toml::node* f = t.get("frame")) body_frame = r_.choice(*f, key("frame"), kFrames) == 1;
 
-    const bool has_axis = j.type == JointType::Revolute || j.type == JointType::Prismatic ||
-                          j.type == JointType::Cylindrical;
-    const bool universal = j.type == JointType::Universal;
+    const bool has_axis = j.type->axes == JointAxes::Axis;
+    const bool universal = j.type->axes == JointAxes::CrossPins;
+    const std::span<const std::string_view> force_keys = j.type->force_keys;
+    const auto carried = [&](std::string_view k) {
+      return std::find(force_keys.begin(), force_keys.end(), k) != force_keys.end();
+    };
 
     // The keys this type and frame use; any other is a mistake.
     std::vector<std::string_view> valid{"name", "type", "bodies", "frame"};
@@ -582,14 +609,14 @@ class MultibodyReader {
       if (has_axis) valid.push_back("axis");
       if (universal) valid.insert(valid.end(), {"axis_a", "axis_b"});
     }
-    if (j.type == JointType::Revolute) valid.insert(valid.end(), {"stiffness", "damping", "rest_angle"});
-    for (std::string_view k : kJointKeys) {
+    valid.insert(valid.end(), force_keys.begin(), force_keys.end());
+    for (std::string_view k : joint_keys()) {
       const toml::node* n = t.get(k);
       if (!n || std::find(valid.begin(), valid.end(), k) != valid.end()) continue;
       const bool per_body = k == "point_a" || k == "point_b" || k == "normal_a" || k == "normal_b";
       std::string why;
-      if (k == "stiffness" || k == "damping" || k == "rest_angle")
-        why = "a torsional spring-damper belongs to a revolute joint";
+      if (!carried(k) && is_force_key(k))
+        why = fmt::format("it is a key of a force element that only {} joints carry", quoted_list(types_carrying(k)));
       else if (!body_frame && per_body)
         why = "in space (the default frame) a joint has one 'point'; per-body points and normals need "
               "frame = \"body\"";
@@ -682,7 +709,8 @@ class MultibodyReader {
       }
     }
 
-    if (j.type == JointType::Revolute) {
+    // A torsional spring-damper's keys (src/multibody/force_elements/torsion_spring.cpp).
+    if (carried("stiffness")) {
       if (const toml::node* n = t.get("stiffness"))
         j.torsion_stiffness = bounded_number(r_, *n, key("stiffness"), 0.0, kMaxCoefficient, "N m/rad");
       if (const toml::node* n = t.get("damping"))
@@ -699,50 +727,29 @@ class MultibodyReader {
   // a at the initial pose, as rows acting on the twist (v, L w): v the
   // velocity of b's point at `ref`, w its angular velocity (both relative to
   // a, in space), L a length that makes the columns comparable. A point of b
-  // at p then moves at v + w x (p - ref).
+  // at p then moves at v + w x (p - ref). Read off the joint type's rows at
+  // the initial pose (model/constraint_row.hpp): a point row along e
+  // (coincident points, point on a line with normal e) is e . (v + w x p),
+  // p the joint point; a perpendicular pair d_a . d_b is (d_a x d_b) . w.
   Eigen::Matrix<double, Eigen::Dynamic, 6> conditions(const JointSpec& j, const Vec3& ref, double L) const {
     const Pose pa = pose(j.body_a);
     const Vec3 p = pa.R * j.point_a + pa.x - ref;
-    const Vec3 u = pa.R * j.axis_a, ub = pose(j.body_b).R * j.axis_b;
-    Vec3 n1 = default_normal(u), n2 = u.cross(n1);
+    const auto in_space = [&](const BodyVector& b) { return Vec3(pose(b.body).R * b.s); };
+    std::vector<ConstraintRow> joint_rows;
+    j.type->rows(j, joint_rows);
     using Row = Eigen::Matrix<double, 1, 6>;
-    std::vector<Row> rows;
-    const auto point_row = [&](const Vec3& n) {  // n . (v + w x p)
-      Row row;
-      row << n.transpose(), p.cross(n).transpose() / L;
-      rows.push_back(row);
-    };
-    const auto turn_row = [&](const Vec3& n) {  // n . w
-      Row row;
-      row << 0, 0, 0, n.transpose() / L;
-      rows.push_back(row);
-    };
-    switch (j.type) {
-      case JointType::Spherical:
-        for (int k = 0; k < 3; ++k) point_row(Vec3::Unit(k));
-        break;
-      case JointType::Revolute:
-        for (int k = 0; k < 3; ++k) point_row(Vec3::Unit(k));
-        turn_row(n1), turn_row(n2);
-        break;
-      case JointType::Universal:
-        for (int k = 0; k < 3; ++k) point_row(Vec3::Unit(k));
-        turn_row(u.cross(ub).normalized());
-        break;
-      case JointType::Prismatic:
-        point_row(n1), point_row(n2);
-        for (int k = 0; k < 3; ++k) turn_row(Vec3::Unit(k));
-        break;
-      case JointType::Cylindrical:
-        point_row(n1), point_row(n2);
-        turn_row(n1), turn_row(n2);
-        break;
-      case JointType::Fixed:
-        for (int k = 0; k < 3; ++k) point_row(Vec3::Unit(k)), turn_row(Vec3::Unit(k));
-        break;
+    Eigen::Matrix<double, Eigen::Dynamic, 6> M(static_cast<Eigen::Index>(joint_rows.size()), 6);
+    for (std::size_t k = 0; k < joint_rows.size(); ++k) {
+      const DotTerm& t = joint_rows[k].terms[0];
+      Row row = Row::Zero();
+      if (joint_rows[k].reaction == RowReaction::Turn) {
+        row.tail<3>() = in_space(t.a).cross(in_space(t.b)).transpose() / L;
+      } else {
+        const Vec3 n = in_space(t.b);
+        row << n.transpose(), p.cross(n).transpose() / L;
+      }
+      M.row(static_cast<Eigen::Index>(k)) = row.normalized();
     }
-    Eigen::Matrix<double, Eigen::Dynamic, 6> M(static_cast<Eigen::Index>(rows.size()), 6);
-    for (std::size_t k = 0; k < rows.size(); ++k) M.row(static_cast<Eigen::Index>(k)) = rows[k].normalized();
     return M;
   }
 
@@ -819,7 +826,7 @@ class MultibodyReader {
     };
     for (std::size_t i = 0; i < spec.joints.size(); ++i) {
       const JointSpec& j = spec.joints[i];
-      if (j.type != JointType::Fixed) continue;
+      if (j.type->freedoms.total() != 0) continue;
       const int a = find(j.body_a + 1), b = find(j.body_b + 1);
       if ((a == find(0)) != (b == find(0))) {
         // Every body of the group this weld joins to the ground.
@@ -831,9 +838,9 @@ class MultibodyReader {
         for (std::size_t k = 0; k < held.size(); ++k)
           list += (k == 0 ? "" : k + 1 == held.size() ? " and " : ", ") + held[k];
         r_.fail(joint_tables_[i]->source(),
-                fmt::format("fixed joint \"{}\" welds {} {} to the ground{}: {} cannot move, and a part that cannot "
+                fmt::format("{} joint \"{}\" welds {} {} to the ground{}: {} cannot move, and a part that cannot "
                             "move is part of the ground (leave it out, or give the joint a type that allows motion)",
-                            j.name, held.size() > 1 ? "bodies" : "body", list,
+                            j.type->name, j.name, held.size() > 1 ? "bodies" : "body", list,
                             held.size() > 1 ? " (with the fixed joints that join them)" : "",
                             held.size() > 1 ? "they" : "it"));
       }

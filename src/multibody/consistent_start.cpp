@@ -25,7 +25,6 @@
 #include <cmath>
 
 #include "rigidae/core/error.hpp"
-#include "rigidae/multibody/joints.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
 
 namespace rigidae::multibody {
@@ -299,7 +298,7 @@ void MultibodyProblem::start(const Scene& scene) {
       throw InputError(fmt::format("{}joint '{}' ({}) row '{}': the initial poses miss the joint by {:.3g} (more "
                                    "than start_tolerance {:g}); place the bodies so that the joint holds, or raise "
                                    "start_tolerance",
-                                   src.empty() ? "" : src + ": error: ", js.name, joint_type_name(js.type), d.row,
+                                   src.empty() ? "" : src + ": error: ", js.name, js.type->name, d.row,
                                    miss, spec_.start_tolerance));
     }
   }
@@ -324,8 +323,10 @@ void MultibodyProblem::start(const Scene& scene) {
 void MultibodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
   y = y0_;
   yp = yp0_;
-  // A torsion angle starts on its principal branch (-pi, pi].
-  for (TorsionSpring& ts : torsions_) ts.reference = 0.0;
+  // Force elements' own state (a torsion angle starts on its principal branch).
+  for (const auto& f : forces_) f->reset();
+  // Joint angles start on their principal branch (-pi, pi] too.
+  for (CoordinateTrack& c : coordinates_) c.reference = 0.0;
   make_consistent(t0, y, yp);
 }
 

@@ -49,10 +49,22 @@ void MultibodyProblem::linear_part_sparse(double t, const double* y, double* val
   assemble_linear_part(t, y, *sink_);
 }
 
-void MultibodyProblem::follow_torsion(double t, const double* y) {
-  if (torsions_.empty()) return;
+void MultibodyProblem::follow_motion(double t, const double* y) {
+  if (!forces_follow_motion_ && coordinates_.empty()) return;
   evaluate(t, y, 2);
-  follow_torsion_angles();
+  follow_force_elements();
+}
+
+void MultibodyProblem::follow_force_elements() {
+  for (const auto& f : forces_)
+    if (f->follows_motion()) f->follow(force_bodies_);
+  // An angle's branch: the value at this accepted step (reporting.cpp).
+  for (CoordinateTrack& c : coordinates_) {
+    if (c.def->kind != CoordinateKind::Angle) continue;
+    double value = 0.0, rate = 0.0;
+    coordinate_value(c, value, rate);
+    c.reference = value;
+  }
 }
 
 }  // namespace rigidae::multibody

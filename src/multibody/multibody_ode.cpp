@@ -247,7 +247,7 @@ StepAction MultibodyOde::on_event(double t, Eigen::VectorXd& x) {
 void MultibodyOde::after_step(double t, const double* x) {
   y_drift_.head(n_state_) = Eigen::Map<const Eigen::VectorXd>(x, n_state_);
   y_drift_.tail(n_ - n_state_).setZero();
-  problem_.follow_torsion(t, y_drift_.data());
+  problem_.follow_motion(t, y_drift_.data());
 }
 
 long MultibodyOde::fresh_factorisations() const { return klu_ ? klu_->fresh_factorisations() : 0; }

@@ -9,8 +9,9 @@
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/model/rigid_body.hpp"
-#include "rigidae/multibody/joints.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
+
+// Force elements: src/multibody/force_elements/ (the forces, their derivatives, potentials).
 
 namespace rigidae::multibody {
 
@@ -88,7 +89,10 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
   }
   // The joints' rows, less those the rank analysis sets aside (redundant).
   std::vector<std::vector<ConstraintRow>> rows_of_joint;
-  for (const JointSpec& js : spec_.joints) rows_of_joint.push_back(joint_rows(js));
+  for (const JointSpec& js : spec_.joints) {
+    rows_of_joint.emplace_back();
+    js.type->rows(js, rows_of_joint.back());
+  }
   find_redundant_rows(scene, rows_of_joint);
   if (spec_.expected_dof && *spec_.expected_dof != redundancy_.rank_dof) {
     const SourcePosition& w = spec_.expected_dof_where;
@@ -153,7 +157,28 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
   drift_memo_y_.resize(n_);
 
   block_eval_.resize(blocks_.size());
-  torsions_ = torsion_springs(spec_);
+  // Every joint's coordinates (model/joint_type.hpp), joint by joint.
+  for (int j = 0; j < static_cast<int>(spec_.joints.size()); ++j) {
+    first_coordinate_.push_back(static_cast<int>(coordinates_.size()));
+    for (const JointCoordinate& c : spec_.joints[j].type->coordinates) {
+      CoordinateTrack t;
+      t.joint = j;
+      t.def = &c;
+      c.rows(spec_.joints[j], t.rows);
+      coordinates_.push_back(t);
+    }
+  }
+  first_coordinate_.push_back(static_cast<int>(coordinates_.size()));
+  forces_ = make_force_elements(spec_);
+  for (const auto& f : forces_) forces_follow_motion_ = forces_follow_motion_ || f->follows_motion();
+  force_bodies_.gravity_W = spec_.gravity_W;
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    force_bodies_.state.push_back(&work_[i].st);
+    force_bodies_.mass.push_back(bodies_[i].mass);
+    force_bodies_.q_group.push_back(bodies_[i].q_group);
+    force_bodies_.v_group.push_back(bodies_[i].v_group);
+    force_bodies_.v_offset.push_back(groups_[bodies_[i].v_group].offset);
+  }
   sink_ = std::make_unique<JacobianSink>(groups_);
 
   start(scene);
@@ -288,7 +313,7 @@ bool MultibodyProblem::residual(double t, const double* y, const double* yp, dou
       F[vo + 3 + k] = s;
     }
   }
-  add_forces(y, F);
+  for (const auto& f : forces_) f->add_force(force_bodies_, F);
   for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) {
     const ConstraintBlock& blk = blocks_[j];
     evaluate_block(j, y, yp);
@@ -354,7 +379,7 @@ void MultibodyProblem::assemble_jacobian(double t, double cj, const double* y, c
     sink.add(V, V, 0, 0, (cj * b.mass) * Mat3::Identity());
     sink.add(V, V, 3, 3, cj * w.terms.M - w.derivs.f_v);
   }
-  add_force_jacobian(y, sink);
+  for (const auto& f : forces_) f->add_jacobian(force_bodies_, sink);
   BlockMatQ Aq;
   BlockMatV Av;
   for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) {
@@ -438,7 +463,7 @@ std::string MultibodyProblem::row_label(int block, int row) const {
   std::string where;
   if (!j.where.file.empty() || j.where.line > 0)
     where = j.where.file + ":" + std::to_string(j.where.line) + ":" + std::to_string(j.where.column) + ": ";
-  return where + "joint '" + j.name + "' (" + joint_type_name(j.type) + ") row '" + b.row_names[row] + "'";
+  return where + "joint '" + j.name + "' (" + std::string(j.type->name) + ") row '" + b.row_names[row] + "'";
 }
 
 }  // namespace rigidae::multibody

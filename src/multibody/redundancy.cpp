@@ -25,7 +25,6 @@
 #include <set>
 
 #include "rigidae/core/error.hpp"
-#include "rigidae/multibody/joints.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
 
 namespace rigidae::multibody {
@@ -175,7 +174,10 @@ void MultibodyProblem::find_redundant_rows(const Scene& scene, std::vector<std::
     for (int r = 0; r < static_cast<int>(rows[j].size()); ++r) refs.push_back({-1, j, r, &rows[j][r]});
   }
   rep.rows = static_cast<int>(refs.size());
-  rep.gruebler_dof = 6 * static_cast<int>(bodies_.size()) - rep.joint_rows;
+  // Gruebler-Kutzbach: each joint removes 6 minus the freedoms its type states
+  // (model/joint_type.hpp), the rows it has before any are set aside.
+  rep.gruebler_dof = 6 * static_cast<int>(bodies_.size());
+  for (const JointSpec& js : spec_.joints) rep.gruebler_dof -= 6 - js.type->freedoms.total();
   rep.rank_dof = nv_total_;
   if (refs.empty()) return;
 
@@ -315,7 +317,7 @@ void MultibodyProblem::check_redundant_rows(double t0) {
           "{}joint '{}' ({}) row '{}': the loop does not close: this row, dependent on the others at the start and "
           "set aside, misses by {:.3g} once the other rows hold (more than start_tolerance {:g}); place the bodies "
           "so that the joint holds",
-          src.empty() ? "" : src + ": error: ", js.name, joint_type_name(js.type), d.row, miss, spec_.start_tolerance));
+          src.empty() ? "" : src + ": error: ", js.name, js.type->name, d.row, miss, spec_.start_tolerance));
     }
   }
   // Nearby poses: along the start's velocity and a random admissible one.

@@ -7,7 +7,14 @@
 // point-on-line row with normal n (fixed in a) the force -lambda n on b; a
 // perpendicular pair d_a . d_b the torque lambda (d_a x d_b) on b. When b is
 // the ground the reaction on a is reported (the negatives, moved to p_a).
+//
+// Joint coordinates (model/joint_type.hpp): an angle is atan2(S, C) of its
+// two rows, on the branch nearest the value at the last accepted step (so a
+// crank that turns counts whole turns: the unwrapping holds while a joint
+// turns less than half a turn per step), its rate (C S' - S C') / (C^2 +
+// S^2); a length is its row's value, its rate G v.
 #include <cmath>
+#include <numbers>
 
 #include "rigidae/multibody/multibody_problem.hpp"
 #include "rigidae/so3/rotation.hpp"
@@ -58,27 +65,32 @@ JointReaction MultibodyProblem::joint_reaction(int joint, const double* y) {
     pb = e[1].value;
   }
   VectorEval ta, tb;
+  // What each multiplier is, the row states (model/constraint_row.hpp).
   for (int r = 0; r < blk.nr; ++r) {
     const ConstraintRow& row = blk.rows[r];
-    if (row.n_terms == 2 && row.terms[0].a.point && row.terms[0].b.body == kGround && !row.terms[0].b.point &&
-        row.terms[1].a.point) {
-      // Coincident points: p_a . e_k - p_b . e_k.
-      out.force += lambda[r] * row.terms[0].b.s;
-    } else if (row.n_terms == 2) {
-      // Point on a line: p_b . n - p_a . n, n fixed in a.
-      const BodyVector& n = row.terms[0].b;
-      Vec3 nw = n.s;
-      if (n.body != kGround) {
-        evaluate_vector(work_[n.body].st, n, ta);
-        nw = ta.value;
+    switch (row.reaction) {
+      case RowReaction::Point:  // p_a . e_k - p_b . e_k
+        out.force += lambda[r] * row.terms[0].b.s;
+        break;
+      case RowReaction::Line: {  // p_b . n - p_a . n, n fixed in a
+        const BodyVector& n = row.terms[0].b;
+        Vec3 nw = n.s;
+        if (n.body != kGround) {
+          evaluate_vector(work_[n.body].st, n, ta);
+          nw = ta.value;
+        }
+        out.force -= lambda[r] * nw;
+        break;
       }
-      out.force -= lambda[r] * nw;
-    } else {
-      const DotTerm& t = row.terms[0];
-      Vec3 da = t.a.s, db = t.b.s;
-      if (t.a.body != kGround) evaluate_vector(work_[t.a.body].st, t.a, ta), da = ta.value;
-      if (t.b.body != kGround) evaluate_vector(work_[t.b.body].st, t.b, tb), db = tb.value;
-      out.torque += lambda[r] * da.cross(db);
+      case RowReaction::Turn: {  // d_a . d_b
+        const DotTerm& t = row.terms[0];
+        Vec3 da = t.a.s, db = t.b.s;
+        if (t.a.body != kGround) evaluate_vector(work_[t.a.body].st, t.a, ta), da = ta.value;
+        if (t.b.body != kGround) evaluate_vector(work_[t.b.body].st, t.b, tb), db = tb.value;
+        out.torque += lambda[r] * da.cross(db);
+        break;
+      }
+      case RowReaction::Coordinate: break;  // not a constraint row
     }
   }
   // A point-on-line force acts at p_b; on a it acts at p_b too, so moved to p_a
@@ -126,31 +138,60 @@ double MultibodyProblem::kinetic_energy(const double* y) const {
   return T;
 }
 
-// Gravity, springs, torsional springs, and constant space forces (their potential -F . x).
+// The force elements' potentials: the fields' (gravity, constant space
+// forces) summed first, then the elastic ones.
 double MultibodyProblem::potential_energy(const double* y) {
+  if (y != evaluated_y_) evaluate(0.0, y, 2);
+  const double* keep = evaluated_y_;
+  evaluated_y_ = y;
   double V = 0.0;
-  for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) V -= bodies_[i].mass * spec_.gravity_W.dot(body_position(i, y));
-  for (const BodyLoadSpec& l : spec_.loads)
-    if (!l.body_frame) V -= l.force.dot(body_position(l.body, y));
-  return V + elastic_energy(y);
+  for (const auto& f : forces_)
+    if (!f->elastic()) V += f->potential_energy(force_bodies_);
+  V += elastic_energy(y);
+  evaluated_y_ = keep;
+  return V;
 }
 
 double MultibodyProblem::elastic_energy(const double* y) {
-  double V = 0.0;
   if (y != evaluated_y_) evaluate(0.0, y, 2);
-  VectorEval e;
-  for (const SpringSpec& s : spec_.springs) {
-    Vec3 p[2] = {s.point_a, s.point_b};
-    const int body[2] = {s.body_a, s.body_b};
-    for (int k = 0; k < 2; ++k)
-      if (body[k] != kGround) {
-        evaluate_vector(work_[body[k]].st, {body[k], p[k], true}, e);
-        p[k] = e.value;
-      }
-    const double stretch = (p[1] - p[0]).norm() - s.rest_length;
-    V += 0.5 * s.stiffness * stretch * stretch;
+  double V = 0.0;
+  for (const auto& f : forces_)
+    if (f->elastic()) V += f->potential_energy(force_bodies_);
+  return V;
+}
+
+bool MultibodyProblem::conserves_energy() const {
+  for (const auto& f : forces_)
+    if (!f->conservative()) return false;
+  return true;
+}
+
+int MultibodyProblem::joint_coordinate_count(int joint) const {
+  return first_coordinate_[joint + 1] - first_coordinate_[joint];
+}
+
+void MultibodyProblem::coordinate_value(const CoordinateTrack& c, double& value, double& rate) {
+  const JointSpec& js = spec_.joints[c.joint];
+  BlockSides sides;
+  sides.body[0] = js.body_a;
+  sides.body[1] = js.body_b;
+  for (int x = 0; x < 2; ++x) sides.state[x] = sides.body[x] == kGround ? nullptr : &work_[sides.body[x]].st;
+  evaluate_rows(c.rows, c.def->row_count(), sides, coordinate_eval_);
+  const BlockEval& e = coordinate_eval_;
+  if (c.def->kind == CoordinateKind::Length) {
+    value = e.phi(0);
+    rate = e.Gv(0);
+    return;
   }
-  return V + torsion_potential_energy();
+  const double C = e.phi(0), S = e.phi(1);
+  value = c.reference + std::remainder(std::atan2(S, C) - c.reference, 2.0 * std::numbers::pi);
+  rate = (C * e.Gv(1) - S * e.Gv(0)) / (C * C + S * S);
+}
+
+void MultibodyProblem::joint_coordinates(int joint, const double* y, double* value, double* rate) {
+  if (y != evaluated_y_) evaluate(0.0, y, 2);
+  for (int k = first_coordinate_[joint]; k < first_coordinate_[joint + 1]; ++k)
+    coordinate_value(coordinates_[k], value[k - first_coordinate_[joint]], rate[k - first_coordinate_[joint]]);
 }
 
 Vec3 MultibodyProblem::linear_momentum(const double* y) const {
@@ -186,8 +227,22 @@ RecordedParts every_part(std::size_t bodies, std::size_t joints) {
 
 constexpr const char* kBodyColumns[] = {"qw", "qx", "qy", "qz", "wx", "wy", "wz", "x", "y", "z", "vx", "vy", "vz"};
 constexpr const char* kBodyUnits[] = {"1", "1", "1", "1", "rad/s", "rad/s", "rad/s", "m", "m", "m", "m/s", "m/s", "m/s"};
-constexpr const char* kJointColumns[] = {"force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z", "phi", "phi_dot"};
+// A joint's reaction and the residuals of its rows (|Phi|, |G v|: m for
+// point rows, 1 for angular ones), then its coordinates (joint_coordinate_columns).
+constexpr const char* kJointColumns[] = {"force_x",  "force_y",  "force_z",           "torque_x",
+                                         "torque_y", "torque_z", "residual_position", "residual_velocity"};
 constexpr const char* kJointUnits[] = {"N", "N", "N", "N m", "N m", "N m", "m|1", "m/s|1/s"};
+
+// JOINT.<coordinate> and JOINT.<coordinate>_rate per coordinate of the joint's type.
+void joint_coordinate_columns(const JointSpec& j, std::vector<std::string>& names, std::vector<std::string>& units) {
+  for (const JointCoordinate& c : j.type->coordinates) {
+    const bool angle = c.kind == CoordinateKind::Angle;
+    names.push_back(j.name + "." + std::string(c.name));
+    names.push_back(j.name + "." + std::string(c.name) + "_rate");
+    units.push_back(angle ? "rad" : "m");
+    units.push_back(angle ? "rad/s" : "m/s");
+  }
+}
 constexpr const char* kGlobalColumns[] = {"energy", "p_x", "p_y", "p_z", "L_x", "L_y", "L_z"};
 constexpr const char* kGlobalUnits[] = {"J", "N s", "N s", "N s", "N m s", "N m s", "N m s"};
 
@@ -209,8 +264,11 @@ std::vector<std::string> MultibodyProblem::output_names(const RecordedParts& par
   std::vector<std::string> n;
   for (int i : parts.bodies)
     for (const char* c : kBodyColumns) n.push_back(bodies_[i].name + "." + c);
-  for (int j : parts.joints)
+  std::vector<std::string> units;
+  for (int j : parts.joints) {
     for (const char* c : kJointColumns) n.push_back(spec_.joints[j].name + "." + c);
+    joint_coordinate_columns(spec_.joints[j], n, units);
+  }
   for (const char* c : kGlobalColumns) n.push_back(c);
   return n;
 }
@@ -218,7 +276,11 @@ std::vector<std::string> MultibodyProblem::output_names(const RecordedParts& par
 std::vector<std::string> MultibodyProblem::output_units(const RecordedParts& parts) const {
   std::vector<std::string> u;
   for (std::size_t i = 0; i < parts.bodies.size(); ++i) u.insert(u.end(), std::begin(kBodyUnits), std::end(kBodyUnits));
-  for (std::size_t j = 0; j < parts.joints.size(); ++j) u.insert(u.end(), std::begin(kJointUnits), std::end(kJointUnits));
+  std::vector<std::string> names;
+  for (int j : parts.joints) {
+    u.insert(u.end(), std::begin(kJointUnits), std::end(kJointUnits));
+    joint_coordinate_columns(spec_.joints[j], names, u);
+  }
   u.insert(u.end(), std::begin(kGlobalUnits), std::end(kGlobalUnits));
   return u;
 }
@@ -242,6 +304,7 @@ void MultibodyProblem::output_row(const double* y, const RecordedParts& parts, d
       for (int c = 0; c < 3; ++c) out[k++] = (*a)(c);
     out[k++] = phi;
     out[k++] = phidot;
+    k += write_coordinates(j, y, out + k);
   }
   out[k++] = kinetic_energy(y) + potential_energy(y);
   const Vec3 p = linear_momentum(y), L = angular_momentum(y);
@@ -282,6 +345,8 @@ std::vector<std::string> MultibodyProblem::step_part_names(const RecordedParts& 
     const std::string& name = spec_.joints[joint].name;
     if (block_of_joint_[joint] >= 0) multipliers(blocks_[block_of_joint_[joint]], name);
     for (const char* c : kJointColumns) n.push_back(name + "." + c);
+    std::vector<std::string> units;
+    joint_coordinate_columns(spec_.joints[joint], n, units);
   }
   return n;
 }
@@ -296,6 +361,8 @@ std::vector<std::string> MultibodyProblem::step_part_units(const RecordedParts& 
   for (int joint : parts.joints) {
     if (block_of_joint_[joint] >= 0) multipliers(blocks_[block_of_joint_[joint]], "N|N m", "m/s|1/s");
     u.insert(u.end(), std::begin(kJointUnits), std::end(kJointUnits));
+    std::vector<std::string> names;
+    joint_coordinate_columns(spec_.joints[joint], names, u);
   }
   return u;
 }
@@ -318,8 +385,21 @@ void MultibodyProblem::step_part_row(const double* y, const RecordedParts& parts
       for (int c = 0; c < 3; ++c) out[k++] = (*a)(c);
     out[k++] = phi;
     out[k++] = phidot;
+    k += write_coordinates(joint, y, out + k);
   }
   evaluated_y_ = nullptr;
+}
+
+// Value, rate per coordinate of the joint (as the column names pair them).
+int MultibodyProblem::write_coordinates(int joint, const double* y, double* out) {
+  const int n = joint_coordinate_count(joint);
+  double value[kMaxJointCoordinates], rate[kMaxJointCoordinates];
+  joint_coordinates(joint, y, value, rate);
+  for (int c = 0; c < n; ++c) {
+    out[2 * c] = value[c];
+    out[2 * c + 1] = rate[c];
+  }
+  return 2 * n;
 }
 
 }  // namespace rigidae::multibody

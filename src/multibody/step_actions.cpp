@@ -91,9 +91,9 @@ StepAction MultibodyProblem::on_event(double t, double h, Eigen::VectorXd& y, Ei
 
 StepAction MultibodyProblem::after_step(double t, double h, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
   StepAction a;
-  if (!torsions_.empty()) {
+  if (forces_follow_motion_ || !coordinates_.empty()) {
     evaluate(t, y.data(), 2);  // order 2: the Lagrange form's bias terms of the rows
-    follow_torsion_angles();
+    follow_force_elements();
   }
   if (change_charts(t, y, yp, false)) a.kind = StepAction::Kind::Restart;
   if (scheme_.projection) {

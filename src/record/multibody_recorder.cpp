@@ -33,8 +33,9 @@ std::string units_comment(const multibody::MultibodyProblem& p, const RecordedPa
     s += "; " + kind + " " + units[i];
   }
   return s + "; q* unit quaternion of R_WB (scalar first); w* space angular velocity; JOINT.force/torque on "
-             "body b (on a when b is the ground) at its joint point, space frame; phi |Phi| (m for point rows, 1 "
-             "for angular rows), phi_dot |G v|" + (parts.joints.empty() ? std::string() : not_controlled);
+             "body b (on a when b is the ground) at its joint point, space frame; residual_position |Phi| (m for "
+             "point rows, 1 for angular rows), residual_velocity |G v|; JOINT.angle* (rad, unwrapped: whole turns "
+             "counted) and JOINT.displacement (m) the joint's coordinates, *_rate their rates" + (parts.joints.empty() ? std::string() : not_controlled);
 }
 
 // The units of the step file's per-part columns (after the table's own).
@@ -46,7 +47,8 @@ std::string step_part_units(const RecordedParts& parts, bool any_column, const s
   if (!parts.joints.empty())
     s += "; JOINT.lambda_* N (point rows) or N m (angular rows), JOINT.mu_* m/s or 1/s (multipliers of the joint's "
          "rows, named by row); JOINT.force_* N, JOINT.torque_* N m the reaction on body b (on a when b is the "
-         "ground) at its joint point, space frame; JOINT.phi |Phi| m or 1, JOINT.phi_dot |G v| m/s or 1/s";
+         "ground) at its joint point, space frame; JOINT.residual_position |Phi| m or 1, JOINT.residual_velocity |G v| m/s or "
+         "1/s; JOINT.angle* rad (unwrapped), JOINT.displacement m, *_rate rad/s or m/s: the joint's coordinates";
   return s + not_controlled;
 }
 

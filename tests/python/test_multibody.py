@@ -42,6 +42,11 @@ def test_multibody_module_equals_cli(scene, options, tmp_path):
         np.testing.assert_array_equal(run.body(b)["q"][:, 0], table[:, header.index(f"{b}.qw")])
     for j in run.joints:
         np.testing.assert_array_equal(run.joint(j)["force"][:, 2], table[:, header.index(f"{j}.force_z")])
+        # Its residuals and coordinates (JOINT.angle, ...) under their column names.
+        scalars = {k: v for k, v in run.joint(j).items() if k not in ("t", "force", "torque")}
+        assert {"residual_position", "residual_velocity"} <= set(scalars)
+        for key, values in scalars.items():
+            np.testing.assert_array_equal(values, table[:, header.index(f"{j}.{key}")], err_msg=f"{j}.{key}")
 
     _, step_header, step_rows = read_csv(tmp_path / "cli" / "steps.csv")
     steps = np.array([[float(x) for x in r] for r in step_rows])

@@ -10,7 +10,6 @@
 #include <string>
 
 #include "alloc_counter.hpp"
-#include "rigidae/multibody/joints.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "test_multibody_scenes.hpp"
@@ -24,9 +23,6 @@ namespace {
 
 const Coordinates kCoordinates[] = {Coordinates::EulerAngles, Coordinates::Quaternion, Coordinates::Linear};
 const Equations kEquations[] = {Equations::Lagrange, Equations::Euler};
-const JointType kJoints[] = {JointType::Spherical, JointType::Revolute,    JointType::Universal,
-                             JointType::Prismatic, JointType::Cylindrical, JointType::Fixed};
-
 // Row-relative largest difference (rows are equations with their own units).
 double row_relative_difference(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
   double worst = 0.0;
@@ -80,14 +76,14 @@ TEST_CASE("multibody: exact iteration matrix = differences, every joint x repres
   std::mt19937 rng(4242);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   double worst = 0.0, worst_start_residual = 0.0;
-  for (JointType jt : kJoints)
+  for (const JointType* jt : joint_types())  // every registered type (model/joint_type.hpp)
     for (Coordinates c : kCoordinates)
       for (Equations e : kEquations)
         for (const std::string& scheme : scheme_names()) {
           const Scene s = test::two_body_chain(jt, c, e, scheme);
           MultibodyProblem p(s);
           const int n = p.size();
-          CAPTURE(multibody::joint_type_name(jt));
+          CAPTURE(jt->name);
           CAPTURE(to_string(c) + "/" + to_string(e) + "/" + scheme);
           Eigen::VectorXd y, yp;
           p.initial_state(0.0, y, yp);
@@ -127,7 +123,7 @@ TEST_CASE("multibody: residual and iteration matrices allocate nothing") {
   for (Coordinates c : kCoordinates)
     for (Equations e : kEquations)
       for (const std::string& scheme : scheme_names()) {
-        const Scene s = test::two_body_chain(JointType::Revolute, c, e, scheme);
+        const Scene s = test::two_body_chain(&joint_type("revolute"), c, e, scheme);
         MultibodyProblem p(s);
         const int n = p.size();
         Eigen::VectorXd y, yp, F(n), values(p.sparsity().nnz());

@@ -106,7 +106,7 @@ TEST_CASE("multibody run: two welded bodies = the combined body's exact free-bod
     for (Equations e : kEquations) {
       CAPTURE(to_string(c) + "/" + to_string(e));
       const Vec3 w(0.7, -1.3, 2.1), v_c(0.2, 0.1, -0.4);
-      Scene s = test::two_body_chain(JointType::Fixed, c, e, "ggl");
+      Scene s = test::two_body_chain(&joint_type("fixed"), c, e, "ggl");
       MultibodySpec& m = *s.multibody;
       m.springs.clear();
       m.loads.clear();
@@ -164,7 +164,7 @@ TEST_CASE("multibody run: a conservative double pendulum keeps its energy in eve
       for (const std::string& scheme : scheme_names()) {
         if (scheme == "index3") continue;  // see below
         CAPTURE(to_string(c) + "/" + to_string(e) + "/" + scheme);
-        Scene s = test::two_body_chain(JointType::Spherical, c, e, scheme);
+        Scene s = test::two_body_chain(&joint_type("spherical"), c, e, scheme);
         s.multibody->springs.clear();
         s.multibody->loads.clear();
         s.time = {0.0, 1.0, 0.05};
@@ -193,7 +193,7 @@ TEST_CASE("multibody run: KLU on the sparse pattern gives the dense trajectory")
     std::vector<Vec4> q[2];
     long jac_evals[2] = {0, 0};
     for (int k = 0; k < 2; ++k) {
-      Scene s = test::two_body_chain(JointType::Revolute, c, Equations::Euler, "ggl");
+      Scene s = test::two_body_chain(&joint_type("revolute"), c, Equations::Euler, "ggl");
       s.time = {0.0, 0.5, 0.05};
       s.solver.rtol = s.solver.atol = 1e-8;
       s.solver.linear_solver = k == 0 ? "dense" : "klu";

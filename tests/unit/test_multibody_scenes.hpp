@@ -35,7 +35,7 @@ inline Scene absolute_heavy_top(Coordinates c, Equations e, const std::string& s
   m.bodies.push_back(top);
   JointSpec pivot;
   pivot.name = "pivot";
-  pivot.type = JointType::Spherical;
+  pivot.type = &joint_type("spherical");
   pivot.body_a = kGround;
   pivot.body_b = 0;
   pivot.point_a = Vec3::Zero();
@@ -47,7 +47,7 @@ inline Scene absolute_heavy_top(Coordinates c, Equations e, const std::string& s
 
 // A joint between a and b (either may be kGround) at the space point P with
 // the space axis z and normal n (perpendicular), placed so that it holds.
-inline JointSpec joint_at(const MultibodySpec& m, JointType type, int a, int b, const Vec3& P, const Vec3& z,
+inline JointSpec joint_at(const MultibodySpec& m, const JointType* type, int a, int b, const Vec3& P, const Vec3& z,
                           const Vec3& n, const std::string& name) {
   JointSpec j;
   j.name = name;
@@ -64,8 +64,8 @@ inline JointSpec joint_at(const MultibodySpec& m, JointType type, int a, int b, 
   j.axis_a = to_body(a, z, false);
   j.normal_a = to_body(a, n, false);
   // Universal: the cross pins are perpendicular.
-  const Vec3 zb = type == JointType::Universal ? n : z;
-  const Vec3 nb = type == JointType::Universal ? Vec3(z.cross(n)) : n;
+  const Vec3 zb = type == &joint_type("universal") ? n : z;
+  const Vec3 nb = type == &joint_type("universal") ? Vec3(z.cross(n)) : n;
   j.axis_b = to_body(b, zb, false);
   j.normal_b = to_body(b, nb, false);
   j.where = {"built_in.toml", 10 + static_cast<int>(m.joints.size()), 1};
@@ -76,7 +76,7 @@ inline JointSpec joint_at(const MultibodySpec& m, JointType type, int a, int b, 
 // the first by joints of `type`, with a spring between them and loads of
 // every kind (revolute joints: torsional spring-dampers too): no symmetry
 // hides a wrong sign.
-inline Scene two_body_chain(JointType type, Coordinates c, Equations e, const std::string& scheme) {
+inline Scene two_body_chain(const JointType* type, Coordinates c, Equations e, const std::string& scheme) {
   Scene s = multibody_base(c, e, scheme);
   MultibodySpec& m = *s.multibody;
   BodySpec a;
@@ -104,7 +104,7 @@ inline Scene two_body_chain(JointType type, Coordinates c, Equations e, const st
   const Vec3 z2 = Vec3(1.0, -0.4, 0.2).normalized();
   const Vec3 n2 = z2.cross(Vec3::UnitZ()).normalized();
   m.joints.push_back(joint_at(m, type, 0, 1, Vec3(0.5, 0.1, -0.8), z2, n2, "j1"));
-  if (type == JointType::Revolute) {
+  if (type == &joint_type("revolute")) {
     // Torsional spring-dampers, wound at the start (rest angles not zero).
     m.joints[0].torsion_stiffness = 3.0;
     m.joints[0].torsion_damping = 0.4;
@@ -162,7 +162,7 @@ inline Scene spherical_chain(int n, Coordinates c, Equations e, const std::strin
     m.bodies.push_back(b);
   }
   for (int i = 0; i < n; ++i)
-    m.joints.push_back(joint_at(m, JointType::Spherical, i == 0 ? kGround : i - 1, i, Vec3(0, 0, -L * i),
+    m.joints.push_back(joint_at(m, &joint_type("spherical"), i == 0 ? kGround : i - 1, i, Vec3(0, 0, -L * i),
                                 Vec3::UnitZ(), Vec3::UnitX(), "joint" + std::to_string(i)));
   return s;
 }

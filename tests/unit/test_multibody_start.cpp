@@ -35,7 +35,7 @@ std::string error_of(const Scene& s) {
 
 // A four-bar loop ground - crank - coupler - rocker - ground in the plane
 // z = 0, every joint of the given types, axes along z.
-Scene four_bar(const JointType types[4]) {
+Scene four_bar(const JointType* const types[4]) {
   Scene s = test::multibody_base(Coordinates::Quaternion, Equations::Euler, "ggl");
   MultibodySpec& m = *s.multibody;
   const Vec3 O1(0, 0, 0), P1(0.3, 1.0, 0), P2(2.1, 1.4, 0), O2(2.0, 0, 0);
@@ -91,7 +91,7 @@ TEST_CASE("multibody heavy top: the start's acceleration is the pivoted model's,
 }
 
 TEST_CASE("multibody start: a miss above the tolerance names the joint, and a small one is projected") {
-  Scene s = test::two_body_chain(JointType::Revolute, Coordinates::Quaternion, Equations::Lagrange, "ggl");
+  Scene s = test::two_body_chain(&joint_type("revolute"), Coordinates::Quaternion, Equations::Lagrange, "ggl");
   s.multibody->joints[1].point_b += Vec3(0, 0, 1e-3);
   const std::string big = error_of(s);
   CHECK(big.find("built_in.toml:11:1") != std::string::npos);
@@ -99,7 +99,7 @@ TEST_CASE("multibody start: a miss above the tolerance names the joint, and a sm
   CHECK(big.find("miss the joint by") != std::string::npos);
   CHECK(big.find("start_tolerance") != std::string::npos);
 
-  s = test::two_body_chain(JointType::Revolute, Coordinates::Linear, Equations::Euler, "index2");
+  s = test::two_body_chain(&joint_type("revolute"), Coordinates::Linear, Equations::Euler, "index2");
   s.multibody->joints[1].point_b += Vec3(0, 0, 5e-7);
   MultibodyProblem p(s);
   REQUIRE(p.warnings().size() >= 1);
@@ -112,8 +112,8 @@ TEST_CASE("multibody start: a miss above the tolerance names the joint, and a sm
 }
 
 TEST_CASE("multibody start: an overconstrained four-bar runs with its dependent rows set aside and named") {
-  const JointType revolutes[4] = {JointType::Revolute, JointType::Revolute, JointType::Revolute,
-                                  JointType::Revolute};
+  const JointType* revolutes[4] = {&joint_type("revolute"), &joint_type("revolute"), &joint_type("revolute"),
+                                  &joint_type("revolute")};
   CHECK(error_of(four_bar(revolutes)) == "no error");
   MultibodyProblem p(four_bar(revolutes));
   // 3 bodies (18 freedoms), 20 rows, one degree of freedom left: 3 redundant.
@@ -131,7 +131,7 @@ TEST_CASE("multibody start: an overconstrained four-bar runs with its dependent 
   CHECK(p.drift(0.0, y.data()).first < 1e-12);
   // Revolute - spherical - spherical - revolute has independent rows (and
   // the coupler's spin about its axis: 2 degrees of freedom).
-  const JointType rssr[4] = {JointType::Revolute, JointType::Spherical, JointType::Spherical, JointType::Revolute};
+  const JointType* rssr[4] = {&joint_type("revolute"), &joint_type("spherical"), &joint_type("spherical"), &joint_type("revolute")};
   MultibodyProblem q(four_bar(rssr));
   CHECK(q.redundancy().dropped.empty());
   CHECK(q.redundancy().rank_dof == 2);
@@ -143,7 +143,7 @@ namespace {
 // Two bodies welded by a fixed joint, moving as one rigid body with angular
 // velocity w (space) and centre-of-mass velocity v_c, under gravity.
 Scene welded_pair(Coordinates c, Equations e, const std::string& scheme, const Vec3& w, const Vec3& v_c) {
-  Scene s = test::two_body_chain(JointType::Fixed, c, e, scheme);
+  Scene s = test::two_body_chain(&joint_type("fixed"), c, e, scheme);
   MultibodySpec& m = *s.multibody;
   m.springs.clear();
   m.loads.clear();

@@ -53,7 +53,7 @@ Scene torsion_scene(const Oscillator& o, Coordinates coords, Equations eq, const
   b.omega0_B = b.R0_WB.transpose() * (o.w0 * kAxis);
   m.bodies.push_back(b);
   const Vec3 n = kAxis.cross(Vec3::UnitX()).normalized();
-  JointSpec j = test::joint_at(m, JointType::Revolute, kGround, 0, b.x0_W, kAxis, n, "hinge");
+  JointSpec j = test::joint_at(m, &joint_type("revolute"), kGround, 0, b.x0_W, kAxis, n, "hinge");
   j.torsion_stiffness = o.k;
   j.torsion_damping = o.c;
   j.torsion_rest_angle = o.rest;

@@ -134,7 +134,7 @@ TEST_CASE("recorded parts: above 50 joints the step file holds the global column
     m.bodies.push_back(b);
   }
   for (int i = 0; i < n; ++i)
-    m.joints.push_back(test::joint_at(m, JointType::Spherical, i == 0 ? kGround : i - 1, i, Vec3(0, 0, -0.1 * i),
+    m.joints.push_back(test::joint_at(m, &joint_type("spherical"), i == 0 ? kGround : i - 1, i, Vec3(0, 0, -0.1 * i),
                                       Vec3::UnitZ(), Vec3::UnitX(), "j" + std::to_string(i)));
   s.time = {0.0, 0.01, 0.01};
   const fs::path dir = test::fresh_temp_dir("parts_large");

@@ -18,12 +18,11 @@
 #include <vector>
 
 #include "rigidae/core/types.hpp"
+#include "rigidae/model/constraint_row.hpp"
 #include "rigidae/model/coordinates.hpp"
+#include "rigidae/model/joint_type.hpp"
 
 namespace rigidae {
-
-// Index of the ground in joint and force body references.
-inline constexpr int kGround = -1;
 
 // Where a definition sits in the scene file, for messages raised after loading
 // (e.g. redundant constraint rows found at the start).
@@ -46,11 +45,9 @@ struct BodySpec {
   SourcePosition where;
 };
 
-enum class JointType { Spherical, Revolute, Universal, Prismatic, Cylindrical, Fixed };
-
 struct JointSpec {
   std::string name;
-  JointType type = JointType::Spherical;
+  const JointType* type = nullptr;  // the registry's (model/joint_type.hpp); set by the loader
   int body_a = kGround, body_b = kGround;  // indices into bodies, or kGround
   // The joint point on each body (body frame, from its centre of mass).
   Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero();

@@ -49,12 +49,8 @@ struct BodyState {
   Vec3 omega() const { return Vec3(v[3], v[4], v[5]); }  // Euler form only
 };
 
-// A vector fixed in a body (or in space, for the ground).
-struct BodyVector {
-  int body = kGround;
-  Vec3 s = Vec3::Zero();
-  bool point = false;  // p = x + R s, else d = R s
-};
+// A vector fixed in a body (or in space, for the ground): model/constraint_row.hpp.
+using rigidae::BodyVector;
 
 // Value, position map D = dp/d(x, q), velocity map Wm (p' = Wm (x', v)) and
 // bias of a body vector. For the ground: the constant s, empty maps.

@@ -23,20 +23,14 @@
 #include <string>
 #include <vector>
 
+#include "rigidae/model/constraint_row.hpp"
 #include "rigidae/multibody/body_vector.hpp"
 
 namespace rigidae::multibody {
 
-struct DotTerm {
-  double coeff = 1.0;
-  BodyVector a, b;
-};
-
-struct ConstraintRow {
-  std::string name;     // e.g. "x", "perp_axis_n"
-  DotTerm terms[2];
-  int n_terms = 1;
-};
+// The rows as plain data (model/constraint_row.hpp); joint types state them.
+using rigidae::ConstraintRow;
+using rigidae::DotTerm;
 
 inline constexpr int kMaxBlockRows = 6;
 using BlockVec = BoundedVec<kMaxBlockRows>;

@@ -63,6 +63,7 @@
 #include "rigidae/multibody/assembly.hpp"
 #include "rigidae/multibody/block_scheme.hpp"
 #include "rigidae/multibody/constraint_rows.hpp"
+#include "rigidae/multibody/force_element.hpp"
 #include "rigidae/multibody/jacobian_sink.hpp"
 #include "rigidae/solver/problem.hpp"
 
@@ -92,18 +93,6 @@ struct ConstraintBlock {
   int body_of_side[2] = {kGround, kGround};
 };
 
-// A revolute joint's torsional spring-damper (src/multibody/torsion.cpp):
-// the angle's cosine and sine as two dot-product rows, and the branch of the
-// angle at the last accepted step.
-struct TorsionSpring {
-  int joint = -1;
-  int body[2] = {kGround, kGround};
-  double stiffness = 0.0, damping = 0.0, rest_angle = 0.0;  // N m/rad, N m s/rad, rad
-  ConstraintRow rows[2];
-  double reference = 0.0;  // rad
-};
-std::vector<TorsionSpring> torsion_springs(const MultibodySpec& spec);
-
 // Reaction of a joint on its body b (on a when b is the ground), in space:
 // the force at b's joint point (N) and the torque about that point (N m).
 struct JointReaction {
@@ -123,7 +112,7 @@ struct RedundancyReport {
   int joint_rows = 0;    // the joints' rows before the drop
   int rank = 0;          // of the scaled Force rows at the start
   int rank_dof = 0;      // velocities - rank
-  int gruebler_dof = 0;  // 6 bodies - joint_rows
+  int gruebler_dof = 0;  // 6 bodies - sum over joints of (6 - the type's freedoms)
   double length_scale = 1.0;  // L (m): point rows divided by it
   double threshold = 0.0;     // of the rank decision (scaled units)
   std::vector<RedundantRow> dropped;
@@ -186,16 +175,21 @@ class MultibodyProblem final : public DaeProblem {
   // |Phi| and |G v| of a joint's rows.
   std::pair<double, double> joint_residuals(int joint, const double* y);
   double kinetic_energy(const double* y) const;
-  // Gravity, constant space-frame forces (-F . x), springs and torsional springs.
+  // Every force element's potential (gravity, constant space-frame forces
+  // -F . x, springs, torsional springs).
   double potential_energy(const double* y);
-  // The springs' and the torsional springs' part of it: 1/2 k stretch^2 and
-  // 1/2 k (theta - theta0)^2, theta on the branch followed from the start.
+  // The elastic elements' part of it: 1/2 k stretch^2 and 1/2 k (theta -
+  // theta0)^2, theta on the branch followed from the start.
   double elastic_energy(const double* y);
+  // Every force element is conservative (the energy check applies).
+  bool conserves_energy() const;
   Vec3 linear_momentum(const double* y) const;
   Vec3 angular_momentum(const double* y) const;  // about the space origin
   // One output row: per body (BODY.qw .. qz, BODY.wx .. wz in space,
   // BODY.x .. z, BODY.vx .. vz), per joint (JOINT.force_x .. z, JOINT.torque_x
-  // .. z on body b in space, JOINT.phi = |Phi|, JOINT.phi_dot = |G v|), then
+  // .. z on body b in space, JOINT.residual_position = |Phi|,
+  // JOINT.residual_velocity = |G v|, then per coordinate of its type
+  // JOINT.<coordinate>, JOINT.<coordinate>_rate), then
   // energy, linear momentum p_x .. p_z and angular momentum L_x .. L_z about
   // the origin. Names and units in the same order.
   std::vector<std::string> output_names() const;
@@ -209,12 +203,17 @@ class MultibodyProblem final : public DaeProblem {
   // A step row's per-part columns (reporting.cpp), after the global ones: per
   // chosen body with constraints of its own BODY.lambda_<row> / BODY.mu_<row>
   // (its multipliers), per chosen joint JOINT.lambda_<row> / JOINT.mu_<row>,
-  // JOINT.force_x..z, JOINT.torque_x..z (as output_row) and JOINT.phi,
-  // JOINT.phi_dot. `parts` lists bodies and joints in the scene's order.
+  // JOINT.force_x..z, JOINT.torque_x..z, the residuals and the coordinates
+  // (as output_row). `parts` lists bodies and joints in the scene's order.
   std::vector<std::string> step_part_names(const RecordedParts& parts) const;
   std::vector<std::string> step_part_units(const RecordedParts& parts) const;
   // Fills out[0 .. step_part_names(parts).size()); allocates nothing.
   void step_part_row(const double* y, const RecordedParts& parts, double* out);
+  // Joint coordinates (model/joint_type.hpp): the coordinates of joint j,
+  // in its type's order, at y: values (rad, unwrapped against the branch
+  // followed from the start; m) and rates (rad/s; m/s). Allocates nothing.
+  int joint_coordinate_count(int joint) const;
+  void joint_coordinates(int joint, const double* y, double* value, double* rate);
   // Position- and velocity-level drift over all blocks (max norms).
   std::pair<double, double> drift(double t, const double* y);
   // Projects y onto Phi = 0 (Gauss-Newton, least change in the mass metric)
@@ -228,9 +227,10 @@ class MultibodyProblem final : public DaeProblem {
   // Writes A: on the state's columns dF/dy', on the multipliers' dF/dy; on
   // sparsity()'s pattern (values zeroed here). Allocates nothing.
   void linear_part_sparse(double t, const double* y, double* values);
-  // After an accepted step of an ODE run: each torsion angle's branch
-  // follows the motion (after_step's part that is not a restart).
-  void follow_torsion(double t, const double* y);
+  // After an accepted step of an ODE run: force elements with a state of
+  // their own (a torsion angle's branch) follow the motion (after_step's part
+  // that is not a restart).
+  void follow_motion(double t, const double* y);
 
  private:
   struct BodyWork {
@@ -247,13 +247,21 @@ class MultibodyProblem final : public DaeProblem {
   void assemble_linear_part(double t, const double* y, JacobianSink& sink);
   void add_forces(const double* y, double* F);
   void add_force_jacobian(const double* y, JacobianSink& sink);
-  BlockSides torsion_sides(const TorsionSpring& ts) const;
-  double torsion_angle(const TorsionSpring& ts, const BlockEval& e) const;
-  void add_torsion_forces(double* F);
-  void add_torsion_jacobian(JacobianSink& sink);
-  // After an accepted step: each torsion angle's branch follows the motion.
-  void follow_torsion_angles();
-  double torsion_potential_energy();
+  // After an accepted step (bodies evaluated): the force elements and the
+  // joint coordinates' branches follow the motion.
+  void follow_force_elements();
+  // A joint coordinate and its rows; `reference`: the angle at the last
+  // accepted step (the branch an angle is unwrapped to).
+  struct CoordinateTrack {
+    int joint = -1;
+    const JointCoordinate* def = nullptr;
+    ConstraintRow rows[2];
+    double reference = 0.0;
+  };
+  // Value and rate of one coordinate at the bodies' last evaluate().
+  void coordinate_value(const CoordinateTrack& c, double& value, double& rate);
+  // A joint's coordinate columns into out (value, rate per coordinate); returns their count.
+  int write_coordinates(int joint, const double* y, double* out);
   // Force blocks' G (rows: their lambdas in order) over all velocities, and
   // stacked positions Phi, at the last evaluate().
   void constraint_matrices(Eigen::SparseMatrix<double>& G, Eigen::VectorXd& phi, std::vector<int>* row_block,
@@ -291,8 +299,12 @@ class MultibodyProblem final : public DaeProblem {
   std::unique_ptr<JacobianSink> sink_;
   std::vector<BodyWork> work_;
   std::vector<BlockEval> block_eval_;
-  std::vector<TorsionSpring> torsions_;
-  BlockEval torsion_eval_;
+  ForceElements forces_;      // registry order (src/multibody/force_elements/registry.cpp)
+  ForceBodies force_bodies_;  // what they read of the bodies (states point into work_)
+  bool forces_follow_motion_ = false;
+  std::vector<CoordinateTrack> coordinates_;   // every joint's, joint by joint
+  std::vector<int> first_coordinate_;          // per joint, into coordinates_ (size joints + 1)
+  BlockEval coordinate_eval_;
   Eigen::VectorXd y0_, yp0_;
   std::vector<std::string> warnings_;
   RedundancyReport redundancy_;

@@ -1,14 +1,12 @@
-// Joint rows from primitives (see joints.hpp).
-#include "rigidae/multibody/joints.hpp"
+// Primitive joint rows (see primitives.hpp).
+#include "primitives.hpp"
 
-#include <array>
-
-namespace rigidae::multibody {
+namespace rigidae::joint_rows {
 
 namespace {
-
 BodyVector point(int body, const Vec3& s) { return {body, s, true}; }
 BodyVector direction(int body, const Vec3& s) { return {body, s, false}; }
+}  // namespace
 
 void coincident_points(const JointSpec& j, std::vector<ConstraintRow>& rows) {
   const char* names[3] = {"x", "y", "z"};
@@ -18,6 +16,7 @@ void coincident_points(const JointSpec& j, std::vector<ConstraintRow>& rows) {
     r.terms[0] = {1.0, point(j.body_a, j.point_a), direction(kGround, Vec3::Unit(k))};
     r.terms[1] = {-1.0, point(j.body_b, j.point_b), direction(kGround, Vec3::Unit(k))};
     r.n_terms = 2;
+    r.reaction = RowReaction::Point;
     rows.push_back(r);
   }
 }
@@ -28,6 +27,7 @@ void perpendicular(const char* name, int body_a, const Vec3& da, int body_b, con
   r.name = name;
   r.terms[0] = {1.0, direction(body_a, da), direction(body_b, db)};
   r.n_terms = 1;
+  r.reaction = RowReaction::Turn;
   rows.push_back(r);
 }
 
@@ -40,6 +40,7 @@ void point_on_line(const JointSpec& j, std::vector<ConstraintRow>& rows) {
     r.terms[0] = {1.0, point(j.body_b, j.point_b), direction(j.body_a, n[i])};
     r.terms[1] = {-1.0, point(j.body_a, j.point_a), direction(j.body_a, n[i])};
     r.n_terms = 2;
+    r.reaction = RowReaction::Line;
     rows.push_back(r);
   }
 }
@@ -54,42 +55,25 @@ void no_turn(const JointSpec& j, std::vector<ConstraintRow>& rows) {
   perpendicular("turn", j.body_a, j.normal_a, j.body_b, j.axis_b.cross(j.normal_b), rows);
 }
 
-}  // namespace
-
-std::vector<ConstraintRow> joint_rows(const JointSpec& j) {
-  std::vector<ConstraintRow> rows;
-  switch (j.type) {
-    case JointType::Spherical: coincident_points(j, rows); break;
-    case JointType::Universal:
-      coincident_points(j, rows);
-      perpendicular("cross", j.body_a, j.axis_a, j.body_b, j.axis_b, rows);
-      break;
-    case JointType::Revolute:
-      coincident_points(j, rows);
-      parallel_axes(j, rows);
-      break;
-    case JointType::Cylindrical:
-      point_on_line(j, rows);
-      parallel_axes(j, rows);
-      break;
-    case JointType::Prismatic:
-      point_on_line(j, rows);
-      parallel_axes(j, rows);
-      no_turn(j, rows);
-      break;
-    case JointType::Fixed:
-      coincident_points(j, rows);
-      parallel_axes(j, rows);
-      no_turn(j, rows);
-      break;
-  }
-  return rows;
+void angle_of(int body_a, const Vec3& w_a, const Vec3& u_a, int body_b, const Vec3& v_b, ConstraintRow out[2]) {
+  out[0] = ConstraintRow{};
+  out[0].name = "cos";
+  out[0].terms[0] = {1.0, direction(body_a, u_a), direction(body_b, v_b)};
+  out[1] = ConstraintRow{};
+  out[1].name = "sin";
+  out[1].terms[0] = {1.0, direction(body_a, w_a.cross(u_a)), direction(body_b, v_b)};
 }
 
-const char* joint_type_name(JointType type) {
-  static constexpr std::array<const char*, 6> kNames{"spherical", "revolute", "universal",
-                                                     "prismatic", "cylindrical", "fixed"};
-  return kNames[static_cast<int>(type)];
+void turn_about_axis(const JointSpec& j, ConstraintRow out[2]) {
+  angle_of(j.body_a, j.axis_a, j.normal_a, j.body_b, j.normal_b, out);
 }
 
-}  // namespace rigidae::multibody
+void slide_along_axis(const JointSpec& j, ConstraintRow out[2]) {
+  out[0] = ConstraintRow{};
+  out[0].name = "slide";
+  out[0].terms[0] = {1.0, point(j.body_b, j.point_b), direction(j.body_a, j.axis_a)};
+  out[0].terms[1] = {-1.0, point(j.body_a, j.point_a), direction(j.body_a, j.axis_a)};
+  out[0].n_terms = 2;
+}
+
+}  // namespace rigidae::joint_rows

@@ -1,0 +1,85 @@
+// A constant force (at the centre of mass) and torque on one body
+// ([[loads]], BodyLoadSpec), in space or in the body frame.
+//
+// A space force F acts on x only: Q_x = F, V = -F . x. A body-frame force
+// acts on x too, Q_x = R F_B: the direction F_B fixed in the body, so
+// dQ_x/dq is that body vector's D (a follower load: no potential). A torque tau is applied as three
+// couples: forces f_e = 1/2 tau_W x u_e at the tips of the body axes
+// u_e = R E_e (and -f_e at the centre of mass), whose moment is
+// sum_e u_e x f_e = tau for orthonormal u_e; its generalized force is
+// sum_e W(E_e)^T f_e in either form (Euler form: exactly R^T tau_W). A
+// body-frame torque uses f_e = 1/2 R (tau_B x E_e). A torque has no
+// potential that rigidae tracks, so a load with one is not conservative.
+#include "rigidae/multibody/force_element.hpp"
+#include "rigidae/so3/rotation.hpp"
+
+namespace rigidae::multibody {
+
+namespace {
+
+class BodyLoad final : public ForceElement {
+ public:
+  explicit BodyLoad(const BodyLoadSpec& load) : load_(load) {}
+
+  void add_force(const ForceBodies& b, double* F) override {
+    const BodyState& st = *b.of(load_.body);
+    const int vo = b.v_offset[load_.body];
+    const Vec3 f = load_.body_frame ? Vec3(st.P.R * load_.force) : load_.force;
+    for (int k = 0; k < 3; ++k) F[vo + k] -= f(k);
+    if (load_.torque.isZero(0.0)) return;
+    VectorEval ev;
+    for (int e = 0; e < 3; ++e) {
+      evaluate_vector(st, {load_.body, Vec3::Unit(e), false}, ev);
+      const Vec3 fe = load_.body_frame ? Vec3(0.5 * (st.P.R * load_.torque.cross(Vec3::Unit(e))))
+                                       : Vec3(0.5 * load_.torque.cross(ev.value));
+      for (int k = 0; k < st.nv(); ++k) F[vo + k] -= ev.Wm.col(k).dot(fe);
+    }
+  }
+
+  void add_jacobian(const ForceBodies& b, JacobianSink& sink) override {
+    const BodyState& st = *b.of(load_.body);
+    const int Q = b.q_group[load_.body], V = b.v_group[load_.body];
+    VectorEval ev;
+    MatBVQ H;
+    Mat3BQ D;
+    if (load_.body_frame) {
+      evaluate_vector(st, {load_.body, load_.force, false}, ev);
+      sink.add(V, Q, 0, 0, -ev.D);
+    }
+    if (load_.torque.isZero(0.0)) return;
+    for (int e = 0; e < 3; ++e) {
+      evaluate_vector(st, {load_.body, Vec3::Unit(e), false}, ev);
+      Vec3 fe;
+      if (load_.body_frame) {
+        const Vec3 a = load_.torque.cross(Vec3::Unit(e));
+        VectorEval ea;
+        evaluate_vector(st, {load_.body, a, false}, ea);
+        fe = 0.5 * ea.value;
+        D = 0.5 * ea.D;
+      } else {
+        fe = 0.5 * load_.torque.cross(ev.value);
+        D = 0.5 * (so3::hat(load_.torque) * ev.D);
+      }
+      vector_dWtm_dq(st, {load_.body, Vec3::Unit(e), false}, fe, H);
+      H.noalias() += ev.Wm.transpose() * D;
+      sink.add(V, Q, 0, 0, -H);
+    }
+  }
+
+  // A space force's potential -F . x; a follower force or a torque: none tracked.
+  double potential_energy(const ForceBodies& b) override {
+    return load_.body_frame ? 0.0 : -load_.force.dot(b.of(load_.body)->x());
+  }
+  bool conservative() const override { return !load_.body_frame && load_.torque.norm() == 0.0; }
+
+ private:
+  BodyLoadSpec load_;
+};
+
+}  // namespace
+
+void add_body_loads(const MultibodySpec& spec, ForceElements& out) {
+  for (const BodyLoadSpec& l : spec.loads) out.push_back(std::make_unique<BodyLoad>(l));
+}
+
+}  // namespace rigidae::multibody
