@@ -11,7 +11,8 @@
 #include <cmath>
 
 #include "rigidae/core/error.hpp"
-#include "rigidae/multibody/joints.hpp"
+#include "rigidae/model/joint_type.hpp"
+#include "rigidae/multibody/constraint_rows.hpp"
 #include "rigidae/so3/rotation.hpp"
 
 namespace rigidae::multibody {
@@ -68,7 +69,10 @@ class Assembler {
       if (j.body_b != kGround) L_ = std::max(L_, j.point_b.norm());
     }
     if (!(L_ > 0.0)) L_ = 1.0;
-    for (const JointSpec& j : spec.joints) rows_of_joint_.push_back(joint_rows(j));
+    for (const JointSpec& j : spec.joints) {
+      rows_of_joint_.emplace_back();
+      j.type->rows(j, rows_of_joint_.back());
+    }
     for (int j = 0; j < static_cast<int>(rows_of_joint_.size()); ++j)
       for (const ConstraintRow& r : rows_of_joint_[j]) rows_.push_back({j, &r, has_point(r) ? L_ : 1.0});
     held_.assign(nb_, 0);
@@ -254,7 +258,7 @@ class Assembler {
         "steps the joint still misses by {:.3g} (start_tolerance {:g}; {:.3g} at the guess){}; the loop cannot "
         "close there: check the joint points and the link lengths, give guesses nearer the intended assembly, or "
         "hold fewer bodies",
-        where, js.name, joint_type_name(js.type), rows_[worst].row->name, rep.iterations,
+        where, js.name, js.type->name, rows_[worst].row->name, rep.iterations,
         std::abs(phi(worst)) * rows_[worst].scale, spec_.start_tolerance, rep.initial_miss,
         held.empty() ? "" : fmt::format(", with {} held", held)));
   }
