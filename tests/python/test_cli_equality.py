@@ -50,6 +50,12 @@ def test_module_equals_cli(options, tmp_path):
     # The command's own addition: the error against the closed form on the
     # output grid (the heavy top has one), from trajectory.csv and reference.csv.
     assert cli.pop("closed_form_error")["final_orientation_rad"] < 1e-3
+    # ... and the verdict judged from it (app/error_estimate.hpp), its warnings after the invariants'.
+    verdict = cli.pop("error_estimate")
+    assert verdict["source"] == "closed form"
+    judged = [w for w in cli["warnings"] if w["quantity"] in ("orientation_error", "position_error")]
+    assert len(judged) == (verdict["orientation"]["max_orientation_rad"] > verdict["limit"])
+    cli["warnings"] = cli["warnings"][:len(cli["warnings"]) - len(judged)]
     assert py == cli
 
     for array, name in ((run.steps, "steps.csv"), (run.grid, "trajectory.csv")):
