@@ -62,11 +62,10 @@ PRESETS = {
     "full": {
         "single": [("free_body.toml", None), ("dzhanibekov.toml", 50.0), ("nearly_symmetric_body.toml", None),
                    ("lagrange_top.toml", None), ("heavy_top.toml", None), ("falling_top.toml", None),
-                   ("sleeping_top.toml", None), ("thin_rod_top.toml", None)],
+                   ("sleeping_top.toml", None), ("thin_rod_top.toml", 1.0)],
         "single_rtols": [10.0 ** -k for k in range(4, 13)],
         "mechanisms": [("four_bar.toml", 1.0), ("double_pendulum.toml", 1.0), ("slider_mechanism.toml", 1.0),
-                       ("heavy_top_absolute.toml", 0.5), ("bricard.toml", 0.3), ("chain_10.toml", 0.1),
-                       ("pendulum_1000.toml", 10.0)],
+                       ("heavy_top_absolute.toml", 0.5), ("bricard.toml", 0.3)],
         "mechanism_rtols": [10.0 ** -k for k in range(4, 11)],
     },
     # CI: a few seconds of runs on each side of the limits.
@@ -81,6 +80,7 @@ PRESETS = {
 }
 
 REF_RTOL = 1e-12
+RUN_TIMEOUT_S = 300  # per solve (run and companion): the budget, not a verdict
 
 
 def combinations(multibody):
@@ -152,7 +152,10 @@ def solve(binary, scene, t_end, combo, rtol, out, estimate):
     if estimate:
         cmd += ["--error-estimate"]
     started = time.monotonic()
-    p = subprocess.run(cmd, capture_output=True, text=True)
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=RUN_TIMEOUT_S)
+    except subprocess.TimeoutExpired:  # no summary.json: counted apart, as "no summary"
+        return -1, f"killed after {RUN_TIMEOUT_S} s", time.monotonic() - started
     return p.returncode, p.stderr, time.monotonic() - started
 
 
@@ -260,12 +263,6 @@ def main():
 
     jobs = []
     references = {}
-    if args.only != "mechanisms":
-        for name, t_end in preset["single"]:
-            for combo in combinations(False):
-                for rtol in preset["single_rtols"]:
-                    out = os.path.join(args.out, "runs", name[:-5], "-".join(combo), f"{rtol:.0e}")
-                    jobs.append((os.path.join(problems, name), t_end, combo, rtol, out, False, None, 1.0))
     if args.only != "single":
         for name, t_end in preset["mechanisms"]:
             scene = os.path.join(problems, name)
@@ -284,6 +281,12 @@ def main():
                     out = os.path.join(args.out, "runs", name[:-5], "-".join(combo), f"{rtol:.0e}")
                     jobs.append((scene, t_end, combo, rtol, out, True, ref, float("nan")))
 
+    if args.only != "mechanisms":
+        for name, t_end in preset["single"]:
+            for combo in combinations(False):
+                for rtol in preset["single_rtols"]:
+                    out = os.path.join(args.out, "runs", name[:-5], "-".join(combo), f"{rtol:.0e}")
+                    jobs.append((os.path.join(problems, name), t_end, combo, rtol, out, False, None, 1.0))
     rows = []
     with futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
         for k, row in enumerate(pool.map(lambda j: one_run(args.rigidae, j), jobs)):
@@ -304,7 +307,10 @@ def main():
     groups = {"single bodies (closed form)": [r for r in rows if not r["scene"] in references],
               "mechanisms (companion)": [r for r in rows if r["scene"] in references]}
     groups["all"] = rows
-    lines = [f"corpus preset '{args.preset}', {len(rows)} runs in {elapsed:.0f} s ({args.jobs} jobs)", "",
+    busy = sum(r.get("process_wall_s") or 0.0 for r in rows)
+    lines = [f"corpus preset '{args.preset}', {len(rows)} runs; their solves took {busy:.0f} s of process wall time "
+             f"({busy / args.jobs / 60:.1f} min at {args.jobs} jobs; this invocation {elapsed:.0f} s, runs measured "
+             f"before are read back)", "",
              "| runs | count | failed | > 1e3 rtol off | of them warned | within 100 rtol | of them warned | "
              "between | of them warned | not estimated |", "|---|---|---|---|---|---|---|---|---|---|"]
     verdict_ok = True

@@ -105,8 +105,8 @@ int solve_command(const std::vector<std::string>& args) {
     }
   // The verdict (app/error_estimate.hpp): the closed form's error where the
   // scene has one; else, with --error-estimate, a companion run at rtol/100;
-  // else "accuracy not estimated" (a companion costs a median +116 % of the
-  // wall time on the shipped scenes, past the 30 % a default may add:
+  // else "accuracy not estimated" (a companion adds a median 180 % to the
+  // wall time of the shipped scenes, tools/error_estimate_cost.py, past the 30 % a default may add:
   // docs/accuracy_check.md).
   ErrorEstimate verdict;
   if (o.run.status == RunStatus::Success) {

@@ -281,7 +281,7 @@ std::vector<Setting> make_table() {
        .help = "the accuracy verdict of a scene without a closed form: run it again at rtol/100 and atol/100 "
                "(into DIR/error_estimate, its wall time in summary.json) and warn when the two differ by more than "
                "300 x max(rtol, atol) over the output grid (orientation, and mechanisms' positions relative to "
-               "their size); off by default because it doubles the wall time (a scene with a closed form is "
+               "their size); off by default because it adds ~180 % to the wall time (a scene with a closed form is "
                "judged by it without a second run; without either solve notes 'accuracy not estimated'; needs "
                "--record steps or grid)"});
   row({.option = "--no-error-estimate", .commands = kCompare | kStudy, .kind = Kind::Boolean, .flag_value = "true",

@@ -151,7 +151,7 @@ TEST_CASE("verdict: where a closed form exists, its error decides") {
   }
 }
 
-TEST_CASE("verdict: solve notes 'accuracy not estimated' with the flag; compare and study judge by default") {
+TEST_CASE("verdict: solve notes 'accuracy not estimated' with the flag, compare judges by default") {
   const std::string four_bar = std::string(RIGIDAE_SOURCE_DIR) + "/problems/four_bar.toml";
   const fs::path out = test::fresh_temp_dir("verdict_cli");
   auto r = test::run_cli("solve " + four_bar + " --t-end 0.3 --out " + (out / "plain").string());

@@ -33,8 +33,12 @@
 // singular pose (or the motion is chaotic); the warning says so, since the
 // estimate cannot tell which of the two is right.
 //
-// A companion that fails, stalls (its wall-time limit: max(30 s, 20 x the
-// run's)), is interrupted or writes another grid gives no verdict: the
+// When the run's own combination fails at the tight tolerances (index3 at
+// rtol 1e-11 can fail its first Newton iterations), the same motion in
+// quaternion/euler/ggl on IDA is the companion instead: any well-posed
+// formulation converges to the same solution. If that fails too, or the
+// companion stalls (its wall-time limit: max(30 s, 20 x the run's), each
+// attempt), is interrupted or writes another grid, there is no verdict: the
 // estimate is "not estimated" with the reason, never a pass.
 #include <filesystem>
 #include <limits>
@@ -81,6 +85,9 @@ struct ErrorEstimate {
   std::string tight_status;  // "success", or the companion's status and message
   double companion_wall_s = std::numeric_limits<double>::quiet_NaN();
   std::filesystem::path tight_dir;  // out_dir/error_estimate
+  // Empty: the run's own combination. "quaternion/euler/ggl" when the run's own
+  // failed at the tight tolerances (companion_note says how) and that one was run instead.
+  std::string companion_combination, companion_note;
 
   double tolerance = 0.0;  // max(rtol, atol) of the run
   double limit = 0.0;      // kVerdictFactor x tolerance
