@@ -87,13 +87,22 @@ TEST_CASE("accuracy check: on the intermediate-axis body, runs that lost the fli
     // right: within 1e-5 rad. Nothing measured lies between.
     const bool wrong = row.error_max_rad > 1e-2;
     CHECK((wrong || row.error_max_rad < 1e-5));
-    CHECK(!row.warnings.empty() == wrong);
+    // The verdict (app/error_estimate.hpp, the closed form here) adds its own
+    // warning past 300 x rtol: the "right" runs are 3e3 to 5e4 x rtol off
+    // after 200 s and get it too; the invariants flag only the wrong ones.
+    const bool past_verdict = row.error_max_rad > 300 * 1e-10;
+    CHECK(!row.warnings.empty() == (wrong || past_verdict));
     flagged += wrong;
     const auto s = nlohmann::json::parse(read_file(out / row.folder / "summary.json"));
     CHECK(s["status"] == "success");  // a warning never changes the status
-    CHECK(s["warnings"].size() == (wrong ? s["warnings"].size() : 0u));
+    std::size_t invariant_warnings = 0, verdict_warnings = 0;
+    for (const auto& w : s["warnings"])
+      ++(w["quantity"] == "orientation_error" ? verdict_warnings : invariant_warnings);
+    CHECK((invariant_warnings > 0) == wrong);
+    CHECK(verdict_warnings == (past_verdict ? 1u : 0u));
     for (const auto& w : s["warnings"]) {
       CHECK(w["drift"].get<double>() > w["limit"].get<double>());
+      if (w["quantity"] == "orientation_error") continue;
       CHECK(w["tolerance"].get<double>() == doctest::Approx(2e-10));
       // The limit is 2 tau sqrt(N) for an invariant, N the accepted steps.
       const double n = s["counters"]["steps"].get<double>();
