@@ -326,6 +326,7 @@ py::dict compare(const Scene& base, const std::vector<std::string>& args, const 
   if (cl.has("--only")) opt.only = split_list(cl.text("--only"));
   if (cl.has("--skip")) opt.skip = split_list(cl.text("--skip"));
   if (const auto* x = cl.last("--reference-rtol")) opt.reference_rtol = std::get<double>(*x);
+  opt.error_estimate = !cl.has("--no-error-estimate");
   std::error_code ec;
   fs::create_directories(opt.out, ec);
   if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", out, ec.message()));

@@ -238,6 +238,9 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
     row.wall_median = median(row.wall_seconds);
 
     row.accuracy = measure_run_accuracy(s, dir, ref, row.outcome.run.status == RunStatus::Success);
+    row.verdict = accuracy_verdict(s, row.outcome, opt.error_estimate, "compare without --no-error-estimate");
+    if (row.outcome.run.status == RunStatus::Success) add_error_estimate_to_summary(dir / "summary.json", row.verdict);
+    row.outcome.warnings.insert(row.outcome.warnings.end(), row.verdict.warnings.begin(), row.verdict.warnings.end());
     drop_steps(dir);
     row.error_final_rad = row.accuracy.orientation_rad.final;
     row.error_max_rad = row.accuracy.orientation_rad.max;
@@ -316,9 +319,16 @@ std::string format_compare_table(const CompareReport& r) {
   bool any_warned = false;
   for (const CompareRow& row : r.rows)
     if (!row.outcome.warnings.empty()) {
-      if (!any_warned) s += "accuracy warnings (drift in tolerances; limits in docs/accuracy_check.md):\n";
+      if (!any_warned) s += "accuracy warnings (drift or error in tolerances; limits in docs/accuracy_check.md):\n";
       any_warned = true;
       s += fmt::format("  {}: {}\n", row.combination.name(), warnings_cell(row.outcome.warnings));
+    }
+  bool any_unestimated = false;
+  for (const CompareRow& row : r.rows)
+    if (!row.verdict.estimated() && row.outcome.run.status == RunStatus::Success) {
+      if (!any_unestimated) s += "accuracy not estimated:\n";
+      any_unestimated = true;
+      s += fmt::format("  {}: {}\n", row.combination.name(), row.verdict.not_estimated);
     }
   if (r.multibody)
     s += "units: drift max |Phi| over the joints (m for point rows, rad for angular rows), |G v| (m/s, rad/s); "
@@ -345,14 +355,17 @@ void write_compare_outputs(const CompareReport& r, const std::filesystem::path& 
          "nonlinear_iters,error_test_fails,nonlinear_conv_fails,restarts,projections,chart_switches,wall_s,repeats,"
          "max_drift_position,max_drift_velocity,max_abs_energy_rel_error,error_final_rad,error_max_rad,lambda_min,"
          "lambda_max,mu_abs_max,rtol,atol,scene,run_dir,message,warnings,integrator,error_position_final_m,"
-         "error_position_max_m\n";
+         "error_position_max_m,estimate_source,estimate_orientation_max_rad,estimate_position_max_rel,length_scale_m,"
+         "estimate_limit,companion_wall_s,not_estimated\n";
     for (const CompareRow& row : r.rows) {
       const IdaCounters& c = row.outcome.run.counters;
       const RunExtremes& x = row.outcome.extremes;
       std::string msg = row.outcome.run.message;
       std::replace(msg.begin(), msg.end(), '"', '\'');
+      std::string not_estimated = row.verdict.not_estimated;
+      std::replace(not_estimated.begin(), not_estimated.end(), '"', '\'');
       f << fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.6g},{},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},"
-                       "{:.6e},{:.6e},{:g},{:g},{},{},\"{}\",\"{}\",{},{:.6e},{:.6e}\n",
+                       "{:.6e},{:.6e},{:g},{:g},{},{},\"{}\",\"{}\",{},{:.6e},{:.6e},{},{:.6e},{:.6e},{:.6e},{:.6e},{:.6g},\"{}\"\n",
                        row.combination.name(), to_string(row.combination.coordinates),
                        to_string(row.combination.equations), row.combination.scheme, to_string(row.outcome.run.status),
                        c.steps, c.residual_evals, c.jacobian_residual_evals, c.jacobian_evals, c.nonlinear_iters,
@@ -361,7 +374,9 @@ void write_compare_outputs(const CompareReport& r, const std::filesystem::path& 
                        x.max_drift_velocity, x.max_abs_energy_error, row.error_final_rad, row.error_max_rad,
                        row.lambda_min, row.lambda_max, row.mu_abs_max, r.rtol, r.atol, r.scene_name,
                        row.combination.folder(), msg, warnings_cell(row.outcome.warnings),
-                       row.combination.integrator_label(), row.accuracy.position_m.final, row.accuracy.position_m.max);
+                       row.combination.integrator_label(), row.accuracy.position_m.final, row.accuracy.position_m.max,
+                       to_string(row.verdict.source), row.verdict.orientation.max, row.verdict.position_rel_max,
+                       row.verdict.length_scale_m, row.verdict.limit, row.verdict.companion_wall_s, not_estimated);
     }
     write_file_atomically(out / "compare.csv", f.str());
   }

@@ -1,4 +1,4 @@
-// The global-error estimate of solve --error-estimate: see
+// The accuracy verdict: closed form or companion run, see
 // include/rigidae/app/error_estimate.hpp.
 #include "rigidae/app/error_estimate.hpp"
 
@@ -13,7 +13,11 @@
 #include <tuple>
 #include <vector>
 
+#include "counters_json.hpp"
+#include "rigidae/app/body_grid.hpp"
+#include "rigidae/app/multibody_accuracy_check.hpp"
 #include "rigidae/app/reference.hpp"
+#include "rigidae/solver/ida_driver.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/io/checked_file.hpp"
 #include "rigidae/settings/settings.hpp"
@@ -98,7 +102,43 @@ nlohmann::json error_json(const OrientationError& e) {
           {"t_final", number_or_null(e.t_final)}};
 }
 
+// The companion's grid against the run's, body by body: orientation angle
+// and (multibody) centre-of-mass distance / L, the worst body per point.
+void compare_bodies(const BodyGrid& run, const BodyGrid& companion, double L, ErrorEstimate& e) {
+  const std::size_t n = std::min(run.t.size(), companion.t.size());
+  const std::size_t nb = std::min(run.bodies.size(), companion.bodies.size());
+  if (n == 0 || nb == 0 || run.bodies != companion.bodies)
+    throw InputError("the run's and the companion's trajectory.csv hold different bodies or no grid point");
+  e.orientation.max = e.position_rel_max = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (std::abs(run.t[i] - companion.t[i]) > 1e-9 * (1.0 + std::abs(companion.t[i])))
+      throw InputError(fmt::format("output grids differ at point {}: t = {} s and {} s", i, run.t[i], companion.t[i]));
+    double a = 0.0, x = 0.0;
+    for (std::size_t b = 0; b < nb; ++b) {
+      a = std::max(a, so3::quaternion_distance(run.q_WB[i][b], companion.q_WB[i][b]));
+      x = std::max(x, (run.x_W[i][b] - companion.x_W[i][b]).norm() / L);
+    }
+    e.orientation.max = std::max(e.orientation.max, a);
+    e.position_rel_max = std::max(e.position_rel_max, x);
+    e.orientation.final = a;
+    e.position_rel_final = x;
+    e.orientation.t_final = run.t[i];
+  }
+}
+
+std::string status_text(const SolveOutcome& o) {
+  return o.run.status == RunStatus::Success ? "success" : to_string(o.run.status) + ": " + o.run.message;
+}
+
 }  // namespace
+
+std::string to_string(EstimateSource s) {
+  switch (s) {
+    case EstimateSource::ClosedForm: return "closed form";
+    case EstimateSource::Companion: return "companion";
+    default: return "none";
+  }
+}
 
 std::pair<double, double> tight_tolerances(const SolverSettings& run) {
   const double rtol_min = settings::scene_setting("solver.rtol").min->value;
@@ -106,30 +146,155 @@ std::pair<double, double> tight_tolerances(const SolverSettings& run) {
   return {std::max(run.rtol / 100.0, rtol_min), std::max(run.atol / 100.0, atol_min)};
 }
 
-ErrorEstimate estimate_global_error(const Scene& scene, const SolveOutcome& run) {
+void judge(ErrorEstimate& e, const Scene& scene) {
+  e.tolerance = std::max(scene.solver.rtol, scene.solver.atol);
+  if (scene.multibody) e.length_scale_m = mechanism_size(*scene.multibody);
+  e.limit = kVerdictFactor * e.tolerance;
+  e.warnings.clear();
+  e.branch_disagreement = false;
+  if (!e.estimated()) return;
+  const bool closed = e.source == EstimateSource::ClosedForm;
+  const std::string against =
+      closed ? "against the closed form"
+             : fmt::format("estimated against a companion run{} at rtol {:g}, atol {:g}",
+                           e.companion_combination.empty() ? "" : " in " + e.companion_combination, e.rtol, e.atol);
+  auto warn = [&](const char* quantity, double value, const std::string& what) {
+    if (!(value > e.limit) && std::isfinite(value)) return;
+    e.warnings.push_back({quantity, value, e.limit, kVerdictFactor, e.tolerance,
+                          fmt::format("{} {:.2e} ({}, {}), {:.3g} x the tolerance max(rtol, atol) = {:.2e}, past the "
+                                      "limit 300 x tolerance = {:.2e}: the results are far less accurate than the "
+                                      "tolerance suggests",
+                                      quantity, value, what, against, value / e.tolerance, e.tolerance, e.limit)});
+  };
+  warn("orientation_error", e.orientation.max,
+       scene.multibody ? "rad, the largest over the output grid and the bodies" : "rad, the largest over the output grid");
+  if (scene.multibody && e.source == EstimateSource::Companion) {
+    e.branch_disagreement = e.position_rel_max > 1.0;
+    warn("position_error", e.position_rel_max,
+         fmt::format("the largest centre-of-mass distance over the output grid and the bodies relative to the "
+                     "mechanism's size L = {:.3g} m",
+                     e.length_scale_m));
+    if (e.branch_disagreement && !e.warnings.empty())
+      e.warnings.back().message += fmt::format(
+          "; the run and its companion differ by more than the mechanism's size: one of them changed assembly "
+          "branch at a singular pose (or the motion is chaotic), and which one is right is not known");
+  }
+}
+
+ErrorEstimate estimate_global_error(const Scene& scene, const SolveOutcome& run, const CompanionLimits& limits) {
   ErrorEstimate e;
   Scene tight = scene;
   std::tie(tight.solver.rtol, tight.solver.atol) = tight_tolerances(scene.solver);
   tight.output.record = RecordMode::Grid;
   // Ten times the steps a run at 1/100 of the tolerance takes at order 2; no fewer than the run allowed.
-  tight.solver.max_steps = std::max(scene.solver.max_steps, 10 * scene.solver.max_steps);
+  tight.solver.max_steps = limits.max_steps > 0 ? limits.max_steps : std::max(scene.solver.max_steps, 10 * scene.solver.max_steps);
+  // A companion that takes 20 times the run's time is stalled, not tighter: at rtol/100 BDF of order
+  // 1 to 5 needs 100^(1/5) to 100^(1/2) = 2.5 to 10 times the steps.
+  tight.solver.wall_time_limit = std::max(limits.floor_s, limits.wall_factor * run.wall_seconds);
   e.rtol = tight.solver.rtol;
   e.atol = tight.solver.atol;
   e.tight_dir = run.out_dir / "error_estimate";
-  const Orientations mine = read_orientations(run.out_dir / "trajectory.csv");
+  auto not_estimated = [&](const std::string& why) {
+    e.source = EstimateSource::None;
+    e.not_estimated = why;
+    judge(e, scene);
+    return e;
+  };
+  if (run.run.status != RunStatus::Success)
+    return not_estimated(fmt::format("the run did not reach the end ({})", to_string(run.run.status)));
+  if (scene.output.record == RecordMode::None)
+    return not_estimated("--record none leaves no output grid to compare");
+  if (tight.solver.rtol == scene.solver.rtol && tight.solver.atol == scene.solver.atol)
+    return not_estimated("the tolerances are at the tightest the settings table allows: no tighter companion");
+  if (g_interrupt_requested.load()) return not_estimated("interrupted before the companion run");
 
-  const SolveOutcome t = solve_scene(tight, e.tight_dir);
-  e.tight_status = t.run.status == RunStatus::Success ? "success" : to_string(t.run.status) + ": " + t.run.message;
-  if (t.run.status == RunStatus::Success) {
-    const Orientations tight_grid = read_orientations(e.tight_dir / "trajectory.csv");
-    e.estimate = compare(mine, tight_grid.t, tight_grid.q);
+  auto run_companion = [&](const Scene& companion, SolveOutcome& t) -> std::string {
+    try {
+      t = solve_scene(companion, e.tight_dir);
+    } catch (const std::runtime_error& x) {
+      return fmt::format("could not run: {}", x.what());
+    }
+    e.companion_wall_s = (std::isfinite(e.companion_wall_s) ? e.companion_wall_s : 0.0) + t.wall_seconds;
+    e.tight_status = status_text(t);
+    return t.run.status == RunStatus::Success ? "" : "did not finish: " + e.tight_status;
+  };
+  SolveOutcome t;
+  std::string failed = run_companion(tight, t);
+  // The run's own combination can fail at rtol/100 where a better-posed one
+  // does not (index3 at rtol 1e-11 fails its first Newton iterations on the
+  // slider mechanism): the same motion in quaternion/euler/ggl on IDA, the
+  // reference formulation, is as good a companion. Not after a signal.
+  const bool is_fallback = tight.formulation.coordinates == Coordinates::Quaternion &&
+                           tight.formulation.equations == Equations::Euler && tight.formulation.scheme == "ggl" &&
+                           tight.solver.integrator == "ida";
+  if (!failed.empty() && !is_fallback && t.run.status != RunStatus::Interrupted && !g_interrupt_requested.load()) {
+    Scene fallback = tight;
+    fallback.formulation.coordinates = Coordinates::Quaternion;
+    fallback.formulation.equations = Equations::Euler;
+    fallback.formulation.scheme = "ggl";
+    fallback.solver.integrator = "ida";
+    std::error_code ec;
+    std::filesystem::remove_all(e.tight_dir, ec);
+    const std::string first = failed;
+    failed = run_companion(fallback, t);
+    e.companion_combination = "quaternion/euler/ggl";
+    e.companion_note = fmt::format("the run's own combination at rtol {:g}, atol {:g} {}", e.rtol, e.atol, first);
+    if (!failed.empty()) failed = first + "; so did quaternion/euler/ggl, which " + failed;
   }
+  if (!failed.empty())
+    return not_estimated(fmt::format("the companion run at rtol {:g}, atol {:g} {}", e.rtol, e.atol, failed));
+  try {
+    if (scene.multibody) {
+      e.length_scale_m = mechanism_size(*scene.multibody);
+      compare_bodies(read_body_grid(run.out_dir / "trajectory.csv"), read_body_grid(e.tight_dir / "trajectory.csv"),
+                     e.length_scale_m, e);
+    } else {
+      const Orientations mine = read_orientations(run.out_dir / "trajectory.csv");
+      const Orientations tight_grid = read_orientations(e.tight_dir / "trajectory.csv");
+      e.orientation = compare(mine, tight_grid.t, tight_grid.q);
+      if (mine.t.size() != tight_grid.t.size())
+        throw InputError(fmt::format("the run has {} output points, the companion {}", mine.t.size(),
+                                     tight_grid.t.size()));
+    }
+  } catch (const std::runtime_error& x) {
+    return not_estimated(fmt::format("the companion's output grid cannot be compared: {}", x.what()));
+  }
+  e.source = EstimateSource::Companion;
+  judge(e, scene);
+  return e;
+}
 
+ErrorEstimate accuracy_verdict(const Scene& scene, const SolveOutcome& run, bool companion,
+                               const std::string& how_to_enable) {
+  ErrorEstimate none;
+  if (run.run.status != RunStatus::Success)
+    none.not_estimated = fmt::format("the run did not reach the end ({})", to_string(run.run.status));
+  else if (scene.output.record == RecordMode::None)
+    none.not_estimated = "--record none leaves no output grid to compare";
+  if (!none.not_estimated.empty()) {
+    judge(none, scene);
+    return none;
+  }
   if (!scene.multibody) {
     std::string why;
-    if (const std::optional<ReferenceTrajectory> exact = exact_reference(scene, &why))
-      e.closed_form = error_against(run, *exact);
+    if (const std::optional<ReferenceTrajectory> exact = exact_reference(scene, &why)) {
+      ErrorEstimate e;
+      if (companion) {
+        e = estimate_global_error(scene, run);
+        if (e.estimated()) e.companion_orientation = e.orientation;
+      }
+      e.source = EstimateSource::ClosedForm;
+      e.not_estimated.clear();
+      e.orientation = error_against(run, *exact);
+      judge(e, scene);
+      return e;
+    }
   }
+  if (companion) return estimate_global_error(scene, run);
+  ErrorEstimate e;
+  e.not_estimated = fmt::format("the scene has no closed form and no companion run was made ({} runs one at rtol/100)",
+                                how_to_enable);
+  judge(e, scene);
   return e;
 }
 
@@ -150,21 +315,58 @@ void add_closed_form_error_to_summary(const std::filesystem::path& summary, cons
   write_file_atomically(summary, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
+nlohmann::json error_estimate_json(const ErrorEstimate& e) {
+  nlohmann::json x = {
+      {"status", e.estimated() ? "estimated" : "not estimated"},
+      {"source", to_string(e.source)},
+      {"not_estimated", e.not_estimated},
+      {"method",
+       "closed form: rotation angle of R_exact^T R on the output grid; companion: the same scene and combination at "
+       "rtol/100 and atol/100 on the same grid, the rotation angle between the two runs (worst body) and, for a "
+       "mechanism, the centre-of-mass distance over the mechanism's size L (worst body); maxima over the grid"},
+      {"orientation", error_json(e.orientation)},
+      {"position_rel_max", number_or_null(e.position_rel_max)},
+      {"position_rel_final", number_or_null(e.position_rel_final)},
+      {"length_scale_m", number_or_null(e.length_scale_m)},
+      {"tolerance", e.tolerance},
+      {"limit", e.limit},
+      {"limit_rule", "300 x max(rtol, atol)"},
+      {"branch_disagreement", e.branch_disagreement},
+      {"companion",
+       {{"rtol", e.rtol},
+        {"atol", e.atol},
+        {"status", e.tight_status.empty() ? nlohmann::json(nullptr) : nlohmann::json(e.tight_status)},
+        {"combination", e.companion_combination.empty() ? "the run's" : e.companion_combination},
+        {"note", e.companion_note},
+        {"wall_time_s", number_or_null(e.companion_wall_s)},
+        {"run", e.tight_dir.empty() ? nlohmann::json(nullptr) : nlohmann::json(e.tight_dir.string())}}},
+      {"companion_orientation", e.companion_orientation ? error_json(*e.companion_orientation) : nlohmann::json(nullptr)},
+  };
+  return x;
+}
+
 void add_error_estimate_to_summary(const std::filesystem::path& summary, const ErrorEstimate& e) {
   std::ifstream in(summary);
   nlohmann::json j = nlohmann::json::parse(in);
-  nlohmann::json x = {
-      {"method", "the same scene at tighter tolerances; orientation angle to it on the output grid, the largest "
-                 "over bodies"},
-      {"tight_rtol", e.rtol},
-      {"tight_atol", e.atol},
-      {"tight_status", e.tight_status},
-      {"tight_run", e.tight_dir.string()},
-      {"estimate", error_json(e.estimate)},
-      {"closed_form", e.closed_form ? error_json(*e.closed_form) : nlohmann::json(nullptr)},
-  };
-  j["error_estimate"] = x;
+  j["error_estimate"] = error_estimate_json(e);
+  nlohmann::json& w = j["warnings"];
+  if (!w.is_array()) w = nlohmann::json::array();
+  for (const nlohmann::json& x : warnings_json(e.warnings)) w.push_back(x);
   write_file_atomically(summary, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+}
+
+std::string describe(const ErrorEstimate& e) {
+  if (!e.estimated()) return "accuracy not estimated: " + e.not_estimated;
+  std::string s = fmt::format("orientation error {:.2e} rad", e.orientation.max);
+  if (std::isfinite(e.position_rel_max))
+    s += fmt::format(", position error {:.2e} of L = {:.3g} m", e.position_rel_max, e.length_scale_m);
+  s += e.source == EstimateSource::ClosedForm ? std::string(" against the closed form")
+                                              : fmt::format(" estimated by a companion at rtol {:g}", e.rtol);
+  s += fmt::format(" (max over the grid): {} the limit {:.2e} = 300 x max(rtol, atol)",
+                   e.warnings.empty() ? "within" : "PAST", e.limit);
+  if (std::isfinite(e.companion_wall_s) && e.source == EstimateSource::Companion)
+    s += fmt::format("; companion {:.3f} s wall", e.companion_wall_s);
+  return s;
 }
 
 }  // namespace rigidae

@@ -12,6 +12,8 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kSmallestSize = 1e-3;  // m
 
+}  // namespace
+
 // The largest distance between the centres of mass and the ground's joint points at the start.
 double mechanism_size(const MultibodySpec& spec) {
   std::vector<Vec3> anchors;
@@ -27,8 +29,6 @@ double mechanism_size(const MultibodySpec& spec) {
   for (const JointSpec& j : spec.joints) size = std::max(size, std::max(j.point_a.norm(), j.point_b.norm()));
   return std::max(size, kSmallestSize);
 }
-
-}  // namespace
 
 // Every force element says whether it is conservative (an undamped spring,
 // gravity and constant space forces are; dampers, follower loads and torques

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rigidae/app/accuracy.hpp"
+#include "rigidae/app/error_estimate.hpp"
 #include "rigidae/app/reference.hpp"
 #include "rigidae/app/solve.hpp"
 #include "rigidae/app/study.hpp"
@@ -164,7 +165,7 @@ struct Timing {
 };
 
 json run_record(const StudySpec& spec, const StudyRun& run, const SolveOutcome& o, const Timing& timing,
-                const RunAccuracy& acc, const ReferenceTrajectory& ref) {
+                const RunAccuracy& acc, const ReferenceTrajectory& ref, const ErrorEstimate& verdict) {
   const IdaCounters& c = o.run.counters;
   const std::vector<double>& wall = timing.wall;
   return {
@@ -223,6 +224,7 @@ json run_record(const StudySpec& spec, const StudyRun& run, const SolveOutcome& 
            a.push_back({{"quantity", w.quantity}, {"drift", w.drift}, {"limit", w.limit}, {"message", w.message}});
          return a;
        }()},
+      {"error_estimate", error_estimate_json(verdict)},
       {"reference", ref.describe()},
       {"reference_accuracy_rad", number(ref.accuracy_rad)},
   };
@@ -273,9 +275,19 @@ bool run_study(const StudySpec& spec, const std::vector<StudyRun>& runs, const S
       timing.final_error = final_orientation_error(timed, *ref);
     }
     const RunAccuracy acc = measure_run_accuracy(scene, tmp, *ref, outcome.run.status == RunStatus::Success);
+    // The verdict: the closed form, or a companion at rtol/100 into tmp/error_estimate (not timed).
+    SolveOutcome judged = outcome;
+    judged.out_dir = tmp;
+    const ErrorEstimate verdict = accuracy_verdict(scene, judged, opt.error_estimate, "study without --no-error-estimate");
+    if (g_interrupt_requested.load()) {
+      fs::remove_all(tmp, ec);
+      return false;
+    }
+    if (outcome.run.status == RunStatus::Success) add_error_estimate_to_summary(tmp / "summary.json", verdict);
+    judged.warnings.insert(judged.warnings.end(), verdict.warnings.begin(), verdict.warnings.end());
     if (!opt.keep_steps) fs::remove(tmp / "steps.csv", ec);  // summaries and grids always stay
     // run.json marks the run complete: written last, whole or not at all.
-    write_file_atomically(tmp / "run.json", run_record(spec, run, outcome, timing, acc, *ref).dump(2) + "\n");
+    write_file_atomically(tmp / "run.json", run_record(spec, run, judged, timing, acc, *ref, verdict).dump(2) + "\n");
     replace_incomplete(final_path, "run.json");
     publish(tmp, final_path);
     ++p.done;

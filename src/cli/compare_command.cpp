@@ -52,6 +52,7 @@ int compare_command(const std::vector<std::string>& args) {
   if (const auto* x = cl.last("--reference-rtol")) opt.reference_rtol = std::get<double>(*x);
   if (const auto* x = cl.last("--run-timeout")) opt.run_timeout = std::get<double>(*x);
   opt.keep_going = cl.has("--keep-going");
+  opt.error_estimate = !cl.has("--no-error-estimate");
   if (opt.out.empty()) opt.out = std::filesystem::path("out") / fmt::format("{}-compare", scene.name.empty() ? "scene" : scene.name);
 
   create_output_folder(opt.out, /*disposable=*/false);

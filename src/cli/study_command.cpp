@@ -30,7 +30,7 @@ struct StudyCommandLine {
   fs::path out;
   std::optional<Shard> shard;
   std::string run_id;
-  bool plot = true, partial = false, quiet = false, keep_steps = false;
+  bool plot = true, partial = false, quiet = false, keep_steps = false, error_estimate = true;
 };
 
 constexpr std::array<std::string_view, 3> kSubcommands{"list", "run", "collect"};
@@ -64,6 +64,7 @@ StudyCommandLine parse(const CommandLine& cl) {
   c.partial = cl.has("--partial");
   c.quiet = cl.has("--quiet");
   c.keep_steps = cl.has("--keep-steps");
+  c.error_estimate = !cl.has("--no-error-estimate");
   if ((c.shard || !c.run_id.empty()) && c.action != "run")
     throw InputError("--shard and --run apply to 'rigidae study run' only");
   if (c.shard && !c.run_id.empty()) throw InputError("give either --shard or --run, not both");
@@ -164,6 +165,7 @@ int study_command(const std::vector<std::string>& args) {
   StudyRunOptions opt;
   opt.out = c.out;
   opt.keep_steps = c.keep_steps;
+  opt.error_estimate = c.error_estimate;
   opt.progress = [&](const StudyProgress& p) { progress.update(p); };
   opt.note = [](const std::string& line) { fmt::print(stderr, "rigidae: note: {}\n", line); };
   if (!run_study(spec, todo, opt)) {

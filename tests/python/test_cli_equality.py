@@ -50,6 +50,12 @@ def test_module_equals_cli(options, tmp_path):
     # The command's own addition: the error against the closed form on the
     # output grid (the heavy top has one), from trajectory.csv and reference.csv.
     assert cli.pop("closed_form_error")["final_orientation_rad"] < 1e-3
+    # ... and the verdict judged from it (app/error_estimate.hpp), its warnings after the invariants'.
+    verdict = cli.pop("error_estimate")
+    assert verdict["source"] == "closed form"
+    judged = [w for w in cli["warnings"] if w["quantity"] in ("orientation_error", "position_error")]
+    assert len(judged) == (verdict["orientation"]["max_orientation_rad"] > verdict["limit"])
+    cli["warnings"] = cli["warnings"][:len(cli["warnings"]) - len(judged)]
     assert py == cli
 
     for array, name in ((run.steps, "steps.csv"), (run.grid, "trajectory.csv")):
@@ -76,6 +82,10 @@ def test_files_written_by_the_module_equal_the_cli_files(tmp_path):
     py.pop("run"), cli.pop("run")  # the command line and the time of each
     assert "closed_form_error" in cli  # the command's own addition, as above
     cli.pop("closed_form_error")
+    verdict = cli.pop("error_estimate")
+    judged = [w for w in cli["warnings"] if w["quantity"] in ("orientation_error", "position_error")]
+    assert len(judged) == (verdict["orientation"]["max_orientation_rad"] > verdict["limit"])
+    cli["warnings"] = cli["warnings"][:len(cli["warnings"]) - len(judged)]
     assert py == cli
     # The events of the chart switches, in memory as in events.csv.
     _, header, rows = read_csv(tmp_path / "cli" / "events.csv")

@@ -87,13 +87,22 @@ TEST_CASE("accuracy check: on the intermediate-axis body, runs that lost the fli
     // right: within 1e-5 rad. Nothing measured lies between.
     const bool wrong = row.error_max_rad > 1e-2;
     CHECK((wrong || row.error_max_rad < 1e-5));
-    CHECK(!row.warnings.empty() == wrong);
+    // The verdict (app/error_estimate.hpp, the closed form here) adds its own
+    // warning past 300 x rtol: the "right" runs are 3e3 to 5e4 x rtol off
+    // after 200 s and get it too; the invariants flag only the wrong ones.
+    const bool past_verdict = row.error_max_rad > 300 * 1e-10;
+    CHECK(!row.warnings.empty() == (wrong || past_verdict));
     flagged += wrong;
     const auto s = nlohmann::json::parse(read_file(out / row.folder / "summary.json"));
     CHECK(s["status"] == "success");  // a warning never changes the status
-    CHECK(s["warnings"].size() == (wrong ? s["warnings"].size() : 0u));
+    std::size_t invariant_warnings = 0, verdict_warnings = 0;
+    for (const auto& w : s["warnings"])
+      ++(w["quantity"] == "orientation_error" ? verdict_warnings : invariant_warnings);
+    CHECK((invariant_warnings > 0) == wrong);
+    CHECK(verdict_warnings == (past_verdict ? 1u : 0u));
     for (const auto& w : s["warnings"]) {
       CHECK(w["drift"].get<double>() > w["limit"].get<double>());
+      if (w["quantity"] == "orientation_error") continue;
       CHECK(w["tolerance"].get<double>() == doctest::Approx(2e-10));
       // The limit is 2 tau sqrt(N) for an invariant, N the accepted steps.
       const double n = s["counters"]["steps"].get<double>();
@@ -114,9 +123,15 @@ TEST_CASE("accuracy check: solve prints the warning and still exits 0, and a rig
   CHECK(r.output.find("2 tau sqrt(N)") != std::string::npos);
   r = run_cli("solve " + kDzhanibekov + " --t-end 60 --rtol 1e-10 --atol 1e-10 --quiet --out " + out.string());
   CHECK(r.exit_code == 0);
-  CHECK(r.output.find("warning") == std::string::npos);
+  // No invariant drifts past its limit; the orientation error against the
+  // closed form (the verdict, app/error_estimate.hpp: 3.6e-7 rad here, 3600 x
+  // rtol after 60 s of this separatrix motion) is judged on its own.
+  CHECK(r.output.find("drifted") == std::string::npos);
   const auto s = nlohmann::json::parse(read_file(out / "summary.json"));
-  CHECK(s["warnings"].empty());
+  const double closed_form = s["closed_form_error"]["max_orientation_rad"].get<double>();
+  std::vector<std::string> quantities;
+  for (const auto& w : s["warnings"]) quantities.push_back(w["quantity"].get<std::string>());
+  CHECK(quantities == std::vector<std::string>(closed_form > 300 * 1e-10 ? 1 : 0, "orientation_error"));
   // The measures are recorded whatever their size.
   CHECK(s["accuracy_check"]["energy"].get<double>() > 0);
   CHECK(s["accuracy_check"]["angular_momentum"].get<double>() > 0);

@@ -252,14 +252,17 @@ TEST_CASE("recording: --error-estimate is within a small factor of the true (clo
       const fs::path dir = test::fresh_temp_dir(std::string("estimate_") + name + std::to_string(rtol));
       const SolveOutcome o = solve_scene(s, dir);
       REQUIRE(o.run.status == RunStatus::Success);
-      const ErrorEstimate e = estimate_global_error(s, o);
+      // The closed form decides; the companion's estimate is kept beside it.
+      const ErrorEstimate e = accuracy_verdict(s, o, true, "--error-estimate");
       REQUIRE(e.tight_status == "success");
-      REQUIRE(e.closed_form.has_value());
-      CHECK(e.estimate.t_final == doctest::Approx(s.time.end));
+      REQUIRE(e.source == EstimateSource::ClosedForm);
+      REQUIRE(e.companion_orientation.has_value());
+      CHECK(e.companion_orientation->t_final == doctest::Approx(s.time.end));
+      CHECK(std::isfinite(e.companion_wall_s));
       // The true error is well above round-off here, so a ratio is meaningful.
-      REQUIRE(e.closed_form->final > 1e-9);
-      const double ratio_final = e.estimate.final / e.closed_form->final;
-      const double ratio_max = e.estimate.max / e.closed_form->max;
+      REQUIRE(e.orientation.final > 1e-9);
+      const double ratio_final = e.companion_orientation->final / e.orientation.final;
+      const double ratio_max = e.companion_orientation->max / e.orientation.max;
       CHECK(ratio_final > 1.0 / 3.0);
       CHECK(ratio_final < 3.0);
       CHECK(ratio_max > 1.0 / 3.0);
@@ -268,7 +271,7 @@ TEST_CASE("recording: --error-estimate is within a small factor of the true (clo
       add_error_estimate_to_summary(dir / "summary.json", e);
       const std::string text = read_all(dir / "summary.json");
       CHECK(text.find("\"error_estimate\"") != std::string::npos);
-      CHECK(text.find("\"closed_form\"") != std::string::npos);
+      CHECK(text.find("\"companion_orientation\"") != std::string::npos);
     }
   }
 }
@@ -298,12 +301,12 @@ TEST_CASE("recording: solve --record, --step-format and --error-estimate on the 
   r = test::run_cli("solve " + free_body + " --t-end 2 --rtol 1e-6 --atol 1e-6 --record grid --error-estimate --out " +
                     (out / "estimate").string());
   CHECK(r.exit_code == 0);
-  CHECK(r.output.find("|run - tight|") != std::string::npos);
-  CHECK(r.output.find("|run - closed form|") != std::string::npos);
+  CHECK(r.output.find("companion at rtol 1e-08") != std::string::npos);
+  CHECK(r.output.find("against the closed form") != std::string::npos);
   CHECK(fs::exists(out / "estimate" / "error_estimate" / "trajectory.csv"));
   const std::string summary = read_all(out / "estimate" / "summary.json");
   CHECK(summary.find("\"error_estimate\"") != std::string::npos);
-  CHECK(summary.find("\"tight_rtol\": 1e-08") != std::string::npos);
+  CHECK(summary.find("\"rtol\": 1e-08") != std::string::npos);
 }
 
 TEST_SUITE_END();

@@ -77,6 +77,23 @@ TEST_CASE("a study over a multibody scene: errors against the tight reference fa
       CHECK(j["timing"]["final_error_rad"].get<double>() == doctest::Approx(err).epsilon(1e-6));
       for (const char* key : {"host", "cpu_model", "load_average", "commit", "compiler"})
         CHECK_FALSE(j["machine"][key].get<std::string>().empty());
+      // The verdict (app/error_estimate.hpp): a companion at rtol/100 in the
+      // run's folder; its estimate is the error against the reference within a
+      // factor 3 (here well above the reference's own error), and it warns
+      // exactly past 300 x rtol.
+      const nlohmann::json& v = j["error_estimate"];
+      REQUIRE(v["source"] == "companion");
+      CHECK(v["companion"]["wall_time_s"].get<double>() > 0);
+      CHECK(fs::exists(run_folder(opt.out, spec, r) / "error_estimate" / "summary.json"));
+      const double estimate = v["orientation"]["max_orientation_rad"].get<double>();
+      const double truth = j["errors"]["orientation_rad"]["max"].get<double>();
+      if (truth > 1e-9) {
+        CHECK(estimate / truth > 1.0 / 3);
+        CHECK(estimate / truth < 3.0);
+      }
+      bool warned = false;
+      for (const auto& w : j["warnings"]) warned = warned || w["quantity"] == "orientation_error";
+      CHECK(warned == (estimate > 300 * r.rtol));
     }
   }
   std::vector<std::string> missing;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "rigidae/app/accuracy.hpp"
+#include "rigidae/app/error_estimate.hpp"
 #include "rigidae/app/reference.hpp"
 #include "rigidae/app/solve.hpp"
 #include "rigidae/model/scene.hpp"
@@ -97,6 +98,10 @@ struct CompareOptions {
   // Run every combination even when the reference failed (otherwise
   // compare stops there: without a reference no error can be reported).
   bool keep_going = false;
+  // The verdict of each row (app/error_estimate.hpp): the closed form decides
+  // where the scene has one; otherwise a companion run at rtol/100 into the
+  // row's folder (error_estimate/). false: no companion (--no-error-estimate).
+  bool error_estimate = true;
 };
 
 // The default per-run limit: max(300 s, 10 x the reference's wall time). A
@@ -114,6 +119,7 @@ struct CompareRow {
   double error_final_rad = 0.0;   // NaN when the run did not reach the end or there is no reference
   double error_max_rad = 0.0;     // over the output grid points the run reached
   RunAccuracy accuracy;           // every error group
+  ErrorEstimate verdict;          // its warnings are also in outcome.warnings
   double lambda_min = 0.0, lambda_max = 0.0;  // J, NaN without force multipliers
   double mu_abs_max = 0.0;                    // 1/s, NaN without kinematic multipliers
 };

@@ -35,6 +35,10 @@
 
 namespace rigidae {
 
+// L above, m: the mechanism's length scale (also that of the verdict's
+// position error, app/error_estimate.hpp).
+double mechanism_size(const MultibodySpec& spec);
+
 // Whether a multibody scene conserves its energy (see above).
 bool multibody_conserves_energy(const MultibodySpec& spec);
 

@@ -92,6 +92,9 @@ struct StudyRunOptions {
   std::function<void(const StudyProgress&)> progress;  // after each run (may be empty)
   bool keep_steps = false;  // keep each run's steps.csv (nothing of a study reads them)
   std::function<void(const std::string&)> note;  // one-line notes (leftovers removed; may be empty)
+  // Each run's verdict (app/error_estimate.hpp): a companion at rtol/100 for a
+  // scene without a closed form; false: none (--no-error-estimate).
+  bool error_estimate = true;
 };
 
 // Runs every incomplete run of `runs` (skipping complete ones). Returns false

@@ -1,0 +1,195 @@
+// The accuracy verdict (app/error_estimate.hpp): the closed form decides
+// where there is one; a companion at rtol/100 estimates the error elsewhere,
+// checked here against a tight reference in other coordinates; a companion
+// that fails or stalls gives "not estimated", never a pass.
+// The rates on the project's corpus: tools/accuracy_corpus.py and
+// tests/python/test_accuracy_corpus.py.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli_runner.hpp"
+#include "rigidae/app/body_grid.hpp"
+#include "rigidae/app/error_estimate.hpp"
+#include "rigidae/app/multibody_accuracy_check.hpp"
+#include "rigidae/app/reference.hpp"
+#include "rigidae/app/solve.hpp"
+#include "rigidae/io/scene_loader.hpp"
+#include "rigidae/so3/rotation.hpp"
+#include "test_scenes.hpp"
+
+TEST_SUITE_BEGIN("system");
+
+namespace fs = std::filesystem;
+using namespace rigidae;
+
+namespace {
+
+Scene problem(const std::string& name, double t_end, double rtol) {
+  Scene s = io::load_scene(std::string(RIGIDAE_SOURCE_DIR) + "/problems/" + name + ".toml");
+  s.time.end = t_end;
+  s.solver.rtol = s.solver.atol = rtol;
+  s.output.record = RecordMode::Grid;
+  return s;
+}
+
+nlohmann::json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  return nlohmann::json::parse(in);
+}
+
+}  // namespace
+
+TEST_CASE("verdict: a mechanism's companion estimate is its error against a tight reference in other coordinates") {
+  // Independent truth: linear/euler/ggl at rtol 1e-11 (other coordinates, 1e6 times tighter).
+  Scene truth_scene = problem("four_bar", 0.5, 1e-11);
+  truth_scene.formulation.coordinates = Coordinates::Linear;
+  const fs::path dir = test::fresh_temp_dir("verdict_four_bar");
+  REQUIRE(solve_scene(truth_scene, dir / "truth").run.status == RunStatus::Success);
+  const BodyGrid truth = read_body_grid(dir / "truth" / "trajectory.csv");
+  for (const double rtol : {1e-4, 1e-6}) {
+    CAPTURE(rtol);
+    const Scene s = problem("four_bar", 0.5, rtol);
+    const fs::path run_dir = dir / fmt::format("run{:g}", rtol);
+    const SolveOutcome o = solve_scene(s, run_dir);
+    REQUIRE(o.run.status == RunStatus::Success);
+    const ErrorEstimate e = estimate_global_error(s, o);
+    REQUIRE(e.source == EstimateSource::Companion);
+    CHECK(e.rtol == doctest::Approx(rtol / 100));
+    CHECK(std::isfinite(e.companion_wall_s));
+    CHECK(e.length_scale_m == doctest::Approx(mechanism_size(*s.multibody)));
+    const BodyGrid run = read_body_grid(run_dir / "trajectory.csv");
+    REQUIRE(run.t.size() == truth.t.size());
+    double angle = 0.0, position = 0.0;
+    for (std::size_t i = 0; i < run.t.size(); ++i)
+      for (std::size_t b = 0; b < run.bodies.size(); ++b) {
+        angle = std::max(angle, so3::quaternion_distance(run.q_WB[i][b], truth.q_WB[i][b]));
+        position = std::max(position, (run.x_W[i][b] - truth.x_W[i][b]).norm() / e.length_scale_m);
+      }
+    REQUIRE(angle > 1e-8);  // far above the truth's own error: a ratio means something
+    CHECK(e.orientation.max / angle > 0.5);
+    CHECK(e.orientation.max / angle < 2.0);
+    CHECK(e.position_rel_max / position > 0.5);
+    CHECK(e.position_rel_max / position < 2.0);
+    // The verdict: warned exactly when the estimate passes 300 x rtol.
+    const bool past = std::max(e.orientation.max, e.position_rel_max) > 300 * rtol;
+    CHECK(e.warnings.empty() == !past);
+    CHECK(e.limit == doctest::Approx(300 * rtol));
+  }
+}
+
+TEST_CASE("verdict: a companion that fails or stalls gives 'not estimated', never a pass") {
+  const Scene s = problem("four_bar", 0.5, 1e-4);
+  const fs::path dir = test::fresh_temp_dir("verdict_companion_fails");
+  const SolveOutcome o = solve_scene(s, dir);
+  REQUIRE(o.run.status == RunStatus::Success);
+
+  CompanionLimits few_steps;
+  few_steps.max_steps = 20;
+  ErrorEstimate e = estimate_global_error(s, o, few_steps);
+  CHECK(e.source == EstimateSource::None);
+  CHECK(e.not_estimated.find("did not finish") != std::string::npos);
+  CHECK(e.not_estimated.find("max_steps") != std::string::npos);
+  CHECK(e.warnings.empty());
+  CHECK(describe(e).rfind("accuracy not estimated: ", 0) == 0);
+  add_error_estimate_to_summary(dir / "summary.json", e);
+  const nlohmann::json j = read_json(dir / "summary.json");
+  CHECK(j["error_estimate"]["status"] == "not estimated");
+  CHECK(j["error_estimate"]["companion"]["wall_time_s"].is_number());  // what the attempt cost
+
+  CompanionLimits no_time;
+  no_time.floor_s = 0.0;
+  no_time.wall_factor = 1e-9;
+  e = estimate_global_error(s, o, no_time);
+  CHECK(e.source == EstimateSource::None);
+  CHECK(e.not_estimated.find("timed out") != std::string::npos);
+  CHECK(e.warnings.empty());
+}
+
+TEST_CASE("verdict: the branch check names a companion on another motion") {
+  const Scene s = problem("four_bar", 0.5, 1e-8);
+  ErrorEstimate e;
+  e.source = EstimateSource::Companion;
+  e.rtol = e.atol = 1e-10;
+  e.orientation.max = 2.0;
+  e.position_rel_max = 1.5;  // more than the mechanism's size apart
+  judge(e, s);
+  CHECK(e.branch_disagreement);
+  REQUIRE(e.warnings.size() == 2);
+  CHECK(e.warnings[0].quantity == "orientation_error");
+  CHECK(e.warnings[1].quantity == "position_error");
+  CHECK(e.warnings[1].message.find("assembly branch") != std::string::npos);
+  CHECK(e.warnings[1].drift == 1.5);
+  CHECK(e.warnings[1].limit == doctest::Approx(3e-6));
+
+  e.orientation.max = 1e-7;
+  e.position_rel_max = 1e-7;  // within 300 x 1e-8
+  judge(e, s);
+  CHECK_FALSE(e.branch_disagreement);
+  CHECK(e.warnings.empty());
+}
+
+TEST_CASE("verdict: where a closed form exists, its error decides") {
+  for (const double rtol : {1e-4, 1e-10}) {
+    CAPTURE(rtol);
+    const Scene s = problem("free_body", 5.0, rtol);
+    const fs::path dir = test::fresh_temp_dir(fmt::format("verdict_closed_form{:g}", rtol));
+    const SolveOutcome o = solve_scene(s, dir);
+    REQUIRE(o.run.status == RunStatus::Success);
+    const ErrorEstimate e = accuracy_verdict(s, o, false, "--error-estimate");
+    REQUIRE(e.source == EstimateSource::ClosedForm);
+    CHECK_FALSE(fs::exists(dir / "error_estimate"));  // no companion was run
+    const std::optional<ReferenceTrajectory> exact = exact_reference(s, nullptr);
+    REQUIRE(exact);
+    CHECK(e.orientation.max == error_against(o, *exact).max);
+    CHECK(e.warnings.empty() == !(e.orientation.max > 300 * rtol));
+  }
+}
+
+TEST_CASE("verdict: solve notes 'accuracy not estimated' with the flag, compare judges by default") {
+  const std::string four_bar = std::string(RIGIDAE_SOURCE_DIR) + "/problems/four_bar.toml";
+  const fs::path out = test::fresh_temp_dir("verdict_cli");
+  auto r = test::run_cli("solve " + four_bar + " --t-end 0.3 --out " + (out / "plain").string());
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("accuracy not estimated") != std::string::npos);
+  CHECK(r.output.find("--error-estimate") != std::string::npos);
+  CHECK(read_json(out / "plain" / "summary.json")["error_estimate"]["status"] == "not estimated");
+
+  r = test::run_cli("solve " + four_bar + " --t-end 0.3 --rtol 1e-4 --atol 1e-4 --error-estimate --out " +
+                    (out / "estimated").string());
+  CHECK(r.exit_code == 0);
+  const nlohmann::json j = read_json(out / "estimated" / "summary.json");
+  CHECK(j["error_estimate"]["status"] == "estimated");
+  CHECK(j["error_estimate"]["companion"]["wall_time_s"].is_number());
+  bool warned = false;
+  for (const auto& w : j["warnings"]) warned = warned || w["quantity"] == "orientation_error";
+  const double estimate = j["error_estimate"]["orientation"]["max_orientation_rad"].get<double>();
+  CHECK(warned == (estimate > 300 * 1e-4));
+  if (warned) CHECK(r.output.find("rigidae: warning: orientation_error") != std::string::npos);
+
+  r = test::run_cli("compare " + four_bar + " --t-end 0.3 --rtol 1e-4 --atol 1e-4 --repeat 1 -q --only "
+                    "quaternion/euler/ggl --out " + (out / "compare").string());
+  CHECK(r.exit_code == 0);
+  CHECK(fs::exists(out / "compare" / "quaternion-euler-ggl" / "error_estimate" / "summary.json"));
+  std::ifstream csv(out / "compare" / "compare.csv");
+  std::string units, header, row;
+  std::getline(csv, units);
+  std::getline(csv, header);
+  std::getline(csv, row);
+  CHECK(header.find("estimate_orientation_max_rad") != std::string::npos);
+  CHECK(row.find(",companion,") != std::string::npos);
+
+  r = test::run_cli("compare " + four_bar + " --t-end 0.3 --rtol 1e-4 --atol 1e-4 --repeat 1 -q --only "
+                    "quaternion/euler/ggl --no-error-estimate --out " + (out / "off").string());
+  CHECK(r.exit_code == 0);
+  CHECK_FALSE(fs::exists(out / "off" / "quaternion-euler-ggl" / "error_estimate"));
+  CHECK(read_json(out / "off" / "quaternion-euler-ggl" / "summary.json")["error_estimate"]["status"] ==
+        "not estimated");
+}
+
+TEST_SUITE_END();
