@@ -97,10 +97,11 @@ int cvode_projection_callback(realtype t, N_Vector ycur, N_Vector corr, realtype
   }
 }
 
-// ARKODE: after each accepted step, in place.
+// ARKODE: after each accepted step, in place (installed for every ERK run: see configure()).
 int arkode_postprocess_callback(realtype t, N_Vector y, void* user_data) {
   CallbackData& d = cb(user_data);
   try {
+    if (!d.projection.enabled) return 0;
     double* x = N_VGetArrayPointer(y);
     const OdeDrift drift = d.problem->drift(t, x);
     if (!needs_projection(d, drift)) return 0;
@@ -314,8 +315,14 @@ class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
                  CallbackData& data, int n_events) {
     set_common(atol, opt, span, data);
     check(ERKStepSetTableName(mem_, method.arkode_name.c_str()), "ERKStepSetTableName");
-    if (data.projection.enabled)
-      check(ERKStepSetPostprocessStepFn(mem_, arkode_postprocess_callback), "ERKStepSetPostprocessStepFn");
+    // Installed also without a projection (then a no-op): with a step
+    // postprocess ARKODE 6.4 evaluates f afresh at each step's start instead
+    // of reusing the last one, and its error estimates and step sizes are
+    // then those of the projected runs. Without it the plain ODE (index1)
+    // took 1.7-2.3x the steps on the heavy top (1,085 / 2,146 / 2,562 steps at
+    // rtol 1e-7 / 1e-8 / 1e-9 against 732 / 944 / 1,140; docs/benchmarks.md,
+    // issue 23), for one more evaluation per step.
+    check(ERKStepSetPostprocessStepFn(mem_, arkode_postprocess_callback), "ERKStepSetPostprocessStepFn");
     set_roots(n_events);
   }
   ~ArkodeStepper() override { ERKStepFree(&mem_); }
