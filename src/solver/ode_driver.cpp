@@ -425,8 +425,13 @@ RunResult integrate_ode(OdeProblem& problem, const SolverSettings& opt, const Ti
   if (grid[0] <= span.start) ++next_out;
 
   Eigen::VectorXd xout(n);
+  const bool every_output = sink.needs_every_output();
   auto emit_grid_until = [&](double t) {
     while (next_out < grid.size() && grid[next_out] <= t) {
+      if (!every_output && next_out + 1 < grid.size()) {  // not the last point: not wanted
+        ++next_out;
+        continue;
+      }
       const double t_out = grid[next_out];
       if (stepper->dky(t_out, vec.dky) < 0) break;
       xout = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(vec.dky), n);
