@@ -136,16 +136,19 @@ Scene load_with_integrator(const Options& o) {
 }
 
 // The combinations --only/--skip select that the integrator runs.
-std::vector<Combination> selected(const Options& o, const std::string& integrator = "ida") {
+std::vector<Combination> selected(const Options& o, const Scene& scene) {
   std::vector<Combination> out;
-  const IntegratorInfo& info = find_integrator(integrator);
-  for (const Combination& c : all_combinations()) {
+  const IntegratorInfo& info = find_integrator(scene.solver.integrator);
+  for (Combination c : all_combinations()) {
+    // A combination names its integrator (Combination::applied_to sets it): the one asked for.
+    c.integrator = scene.solver.integrator;
+    c.erk_method = scene.solver.integrator == "arkode-erk" ? scene.solver.erk_method : "";
     if (!info.schemes.empty() && c.scheme != "any" &&
         std::find(info.schemes.begin(), info.schemes.end(), c.scheme) == info.schemes.end())
       continue;
     bool keep = o.only.empty();
-    for (const auto& p : o.only) keep = keep || matches(c, p);
-    for (const auto& p : o.skip) keep = keep && !matches(c, p);
+    for (const auto& p : o.only) keep = keep || matches(c, p, c.integrator);
+    for (const auto& p : o.skip) keep = keep && !matches(c, p, c.integrator);
     if (keep) out.push_back(c);
   }
   if (out.empty()) throw InputError("no combination matches --only/--skip");
@@ -186,6 +189,7 @@ class FinalStateSink final : public StepSink {
     t_last = t;
     y_last = y;
   }
+  bool needs_every_output() const override { return false; }
 };
 
 struct RunSample {
@@ -208,7 +212,7 @@ RunSample run_unrecorded(const Scene& s) {
   }
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (r.run.status == RunStatus::Success && sink.y_last.size() > 0)
-    r.q_end = problem.representation().orientation(dae->coordinates(sink.y_last.data()));  // in the chart it ended in
+    r.q_end = run.chart_state().representation().orientation(dae->coordinates(sink.y_last.data()));  // in the chart it ended in
   return r;
 }
 
@@ -263,20 +267,11 @@ Scene with_settings(const Scene& base, const Combination& c, double rtol, const 
   return s;
 }
 
-// The method's name in the results: the combination, and the integrator
-// when it is not IDA.
-std::string method_name(const Scene& s, const Combination& c) {
-  if (s.solver.integrator == "ida") return c.name();
-  std::string m = c.name() + "@" + s.solver.integrator;
-  if (s.solver.integrator == "arkode-erk") m += ":" + s.solver.erk_method;
-  return m;
-}
-
 // The work a setting takes and the error it leaves, one JSON line.
 json measure(const Scene& s, const Combination& c, const Options& o, const std::optional<Vec4>& q_ref) {
   json row = {{"peer", "rigidae"},
               {"scene", s.name},
-              {"method", method_name(s, c)},
+              {"method", c.name()},
               {"integrator", s.solver.integrator},
               {"jacobian", s.solver.jacobian},
               {"setting", s.solver.rtol},
@@ -344,7 +339,7 @@ int cmd_cost(Options o) {
   const double rtol = o.rtols.empty() ? scene.solver.rtol : o.rtols.front();
   o.mode = "both";
   print(bench::machine_info("rigidae_bench cost"));
-  for (const Combination& c : selected(o, scene.solver.integrator)) {
+  for (const Combination& c : selected(o, scene)) {
     const Scene s = with_settings(scene, c, rtol, o.jacobian);
     json row = measure(s, c, o, std::nullopt);
     row["kind"] = "cost";
@@ -394,7 +389,7 @@ int cmd_sweep(Options o) {
   info["scene"] = scene.name;
   info["reference"] = ref_how;
   print(info);
-  for (const Combination& c : selected(o, scene.solver.integrator))
+  for (const Combination& c : selected(o, scene))
     for (double rtol : o.rtols) {
       json row = measure(with_settings(scene, c, rtol, o.jacobian), c, o, q_ref);
       row["kind"] = "sweep";

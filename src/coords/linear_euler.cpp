@@ -6,6 +6,7 @@
 // they take no force multiplier; a scheme adds -Phi_q^T mu to the kinematic
 // rows instead. Unknowns: r (9), omega_B (3).
 #include "coordinate_maps.hpp"
+#include "euler_form_rate.hpp"
 #include "factories.hpp"
 #include "rigid_body_derivatives.hpp"
 
@@ -13,9 +14,20 @@ namespace rigidae::coords {
 
 namespace {
 
+// R' = R hat(w): row i of R' is r_i x w. R^T g = sum_i g_i r_i.
+struct LinearKinematics {
+  static constexpr int kNq = 9;
+  static void rate(const double* r, const Vec3& w, double* rdot) {
+    for (int i = 0; i < 3; ++i) Eigen::Map<Vec3>(rdot + 3 * i) = Eigen::Map<const Vec3>(r + 3 * i).cross(w);
+  }
+  static Vec3 gravity_in_body(const double* r, const Vec3& g) {
+    return g(0) * Eigen::Map<const Vec3>(r) + g(1) * Eigen::Map<const Vec3>(r + 3) + g(2) * Eigen::Map<const Vec3>(r + 6);
+  }
+};
+
 class LinearEuler final : public Representation {
  public:
-  explicit LinearEuler(const RigidBodyModel& body) : body_(body) {}
+  explicit LinearEuler(const RigidBodyModel& body) : body_(body), rate_(body) {}
 
   std::string name() const override { return "linear/euler"; }
   int nq() const override { return 9; }
@@ -70,9 +82,11 @@ class LinearEuler final : public Representation {
   Mat3 placement(const VecQ& q) const override { return rows_to_matrix(q); }
   Vec3 body_angular_velocity(const VecQ& /*q*/, const VecV& v) const override { return v.head<3>(); }
   void project_coordinates(VecQ& q) const override { matrix_to_rows(so3::nearest_rotation(rows_to_matrix(q)), q); }
+  const EulerFormRate* euler_form_rate() const override { return &rate_; }
 
  private:
   RigidBodyModel body_;
+  EulerFormRateOf<LinearKinematics> rate_;
 };
 
 }  // namespace

@@ -6,6 +6,7 @@
 // -Phi_q^T mu = -2 q mu to the kinematic rows instead.
 // Unknowns: q (4), omega_B (3).
 #include "coordinate_maps.hpp"
+#include "euler_form_rate.hpp"
 #include "factories.hpp"
 #include "rigid_body_derivatives.hpp"
 
@@ -13,9 +14,26 @@ namespace rigidae::coords {
 
 namespace {
 
+// q' = 1/2 L(q) w = 1/2 (-v.w, s w + v x w) for q = (s, v); R(q)^T g of the
+// homogeneous R(q) = (s^2 - v.v) I + 2 v v^T + 2 s hat(v).
+struct QuaternionKinematics {
+  static constexpr int kNq = 4;
+  static void rate(const double* q, const Vec3& w, double* qdot) {
+    const double s = q[0];
+    const Vec3 v(q[1], q[2], q[3]);
+    qdot[0] = -0.5 * v.dot(w);
+    Eigen::Map<Vec3>(qdot + 1) = 0.5 * (s * w + v.cross(w));
+  }
+  static Vec3 gravity_in_body(const double* q, const Vec3& g) {
+    const double s = q[0];
+    const Vec3 v(q[1], q[2], q[3]);
+    return (s * s - v.squaredNorm()) * g + (2.0 * v.dot(g)) * v - (2.0 * s) * v.cross(g);
+  }
+};
+
 class QuaternionEuler final : public Representation {
  public:
-  explicit QuaternionEuler(const RigidBodyModel& body) : body_(body) {}
+  explicit QuaternionEuler(const RigidBodyModel& body) : body_(body), rate_(body) {}
 
   std::string name() const override { return "quaternion/euler"; }
   int nq() const override { return 4; }
@@ -72,9 +90,11 @@ class QuaternionEuler final : public Representation {
   Mat3 placement(const VecQ& q) const override { return so3::quaternion_to_matrix(q.head<4>()); }
   Vec3 body_angular_velocity(const VecQ& /*q*/, const VecV& v) const override { return v.head<3>(); }
   void project_coordinates(VecQ& q) const override { q.head<4>().normalize(); }
+  const EulerFormRate* euler_form_rate() const override { return &rate_; }
 
  private:
   RigidBodyModel body_;
+  EulerFormRateOf<QuaternionKinematics> rate_;
 };
 
 }  // namespace

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 #include <Eigen/Cholesky>
 
 #include "rigidae/core/error.hpp"
@@ -26,10 +28,12 @@ SingleBodyOde::SingleBodyOde(const DaeSystem& dae, const Scene& scene)
   v_.resize(nv_);
   acc_.resize(nv_);
   lambda_.setZero(force_ ? nc_ : 0);
+  kernel_ = rep().euler_form_rate();
 }
 
 void SingleBodyOde::initial_state(double t0, Eigen::VectorXd& x) {
   chart_ = dae_.start_chart();
+  kernel_ = rep().euler_form_rate();
   Eigen::VectorXd y, yp;
   dae_.consistent_state(chart_, t0, scene_.R0_WB, scene_.omega0_B, y, yp);
   const EulerChartSpec& charts = scene_.formulation.euler;
@@ -120,6 +124,14 @@ bool SingleBodyOde::accelerations(double t, const double* x) {
 }
 
 bool SingleBodyOde::rhs(double t, const double* x, double* xdot) {
+  if (kernel_) {
+    // The same function at fixed size (no multipliers in the Euler form).
+    kernel_->rate(x, xdot);
+    // Finite iff the sum of 0 * entries is 0 (an inf or NaN entry makes it NaN).
+    double zero = 0.0;
+    for (int i = 0, n = nq_ + nv_; i < n; ++i) zero += 0.0 * xdot[i];
+    return zero == 0.0;
+  }
   const bool ok = accelerations(t, x);
   Eigen::Map<Eigen::VectorXd>(xdot, nq_) = terms_.qdot;
   Eigen::Map<Eigen::VectorXd>(xdot + nq_, nv_) = acc_;
@@ -229,6 +241,7 @@ bool SingleBodyOde::change_chart(double t, Eigen::VectorXd& x) {
   const int to = dae_.change_chart(chart_, t, y, yp);
   if (to == chart_) return false;
   chart_ = to;
+  kernel_ = rep().euler_form_rate();
   x = y.head(nq_ + nv_);
   note.to = rep().chart_name();
   notes_.push_back(std::move(note));

@@ -515,7 +515,12 @@ void IdaRun::restart(double h0) {
 }
 
 void IdaRun::emit_grid_until(double t) {
+  const bool every = sink_.needs_every_output();
   while (next_out_ < grid_.size() && grid_[next_out_] <= t) {
+    if (!every && next_out_ + 1 < grid_.size()) {  // not the last point: not wanted
+      ++next_out_;
+      continue;
+    }
     const double t_out = grid_[next_out_];
     if (IDAGetDky(ida_.mem, t_out, 0, ida_.dky) < 0) break;
     yout_ = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(ida_.dky), n_);

@@ -46,7 +46,9 @@ CallbackData& cb(void* user_data) { return *static_cast<CallbackData*>(user_data
 int rhs_callback(realtype t, N_Vector x, N_Vector xdot, void* user_data) {
   CallbackData& d = cb(user_data);
   try {
-    return d.problem->rhs(t, N_VGetArrayPointer(x), N_VGetArrayPointer(xdot)) ? 0 : 1;  // 1: retry smaller
+    // The serial layout's data directly (every vector here is serial_vector.hpp's):
+    // N_VGetArrayPointer is two calls into Debian's unoptimised library per evaluation.
+    return d.problem->rhs(t, NV_DATA_S(x), NV_DATA_S(xdot)) ? 0 : 1;  // 1: retry smaller
   } catch (...) {
     d.error = std::current_exception();
     return -1;
@@ -95,10 +97,11 @@ int cvode_projection_callback(realtype t, N_Vector ycur, N_Vector corr, realtype
   }
 }
 
-// ARKODE: after each accepted step, in place.
+// ARKODE: after each accepted step, in place (installed for every ERK run: see configure()).
 int arkode_postprocess_callback(realtype t, N_Vector y, void* user_data) {
   CallbackData& d = cb(user_data);
   try {
+    if (!d.projection.enabled) return 0;
     double* x = N_VGetArrayPointer(y);
     const OdeDrift drift = d.problem->drift(t, x);
     if (!needs_projection(d, drift)) return 0;
@@ -312,8 +315,14 @@ class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
                  CallbackData& data, int n_events) {
     set_common(atol, opt, span, data);
     check(ERKStepSetTableName(mem_, method.arkode_name.c_str()), "ERKStepSetTableName");
-    if (data.projection.enabled)
-      check(ERKStepSetPostprocessStepFn(mem_, arkode_postprocess_callback), "ERKStepSetPostprocessStepFn");
+    // Installed also without a projection (then a no-op): with a step
+    // postprocess ARKODE 6.4 evaluates f afresh at each step's start instead
+    // of reusing the last one, and its error estimates and step sizes are
+    // then those of the projected runs. Without it the plain ODE (index1)
+    // took 1.7-2.3x the steps on the heavy top (1,085 / 2,146 / 2,562 steps at
+    // rtol 1e-7 / 1e-8 / 1e-9 against 732 / 944 / 1,140; docs/benchmarks.md,
+    // issue 23), for one more evaluation per step.
+    check(ERKStepSetPostprocessStepFn(mem_, arkode_postprocess_callback), "ERKStepSetPostprocessStepFn");
     set_roots(n_events);
   }
   ~ArkodeStepper() override { ERKStepFree(&mem_); }
@@ -416,8 +425,13 @@ RunResult integrate_ode(OdeProblem& problem, const SolverSettings& opt, const Ti
   if (grid[0] <= span.start) ++next_out;
 
   Eigen::VectorXd xout(n);
+  const bool every_output = sink.needs_every_output();
   auto emit_grid_until = [&](double t) {
     while (next_out < grid.size() && grid[next_out] <= t) {
+      if (!every_output && next_out + 1 < grid.size()) {  // not the last point: not wanted
+        ++next_out;
+        continue;
+      }
       const double t_out = grid[next_out];
       if (stepper->dky(t_out, vec.dky) < 0) break;
       xout = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(vec.dky), n);

@@ -3,7 +3,9 @@
 // generic fallbacks for the fused operations, so that runs are bit-identical).
 #include "serial_vector.hpp"
 
+#include <array>
 #include <cmath>
+#include <utility>
 
 namespace rigidae::sun {
 
@@ -207,17 +209,59 @@ double min_quotient(N_Vector num, N_Vector denom) {
 // ---- fused operations: the entry-wise arithmetic of SUNDIALS' fallbacks ----
 
 // z = c0 X0, then z += c_i X_i in order (X_i may alias z, as in the fallback).
-int linear_combination(int nvec, double* c, N_Vector* X, N_Vector z) {
+// A term with c_i = 0 is skipped: z + 0 x_i is z for every finite x_i (up to
+// the sign of a zero entry: -0 + 0 is +0), and ARKODE's explicit tables pass
+// many zeros (Fehlberg 7(8): 23 of the 78 stage coefficients, 6 of the 13 weights).
+void linear_combination_in_place(int nvec, const double* c, N_Vector* X, N_Vector z) {
   const Index n = len(z);
   double* zd = dat(z);
   const double* x0 = dat(X[0]);
   const double c0 = c[0];
   for (Index j = 0; j < n; ++j) zd[j] = c0 * x0[j];
   for (int i = 1; i < nvec; ++i) {
-    const double* xi = dat(X[i]);
     const double ci = c[i];
+    if (ci == 0.0) continue;
+    const double* xi = dat(X[i]);
     for (Index j = 0; j < n; ++j) zd[j] = zd[j] + ci * xi[j];
   }
+}
+
+// The same sums for a length N known at compile time, entry by entry in
+// registers (each entry still c0 x0 + c1 x1 + ... in the order of the terms,
+// hence the same bits): the ODE integrators' stage sums on one body's 7 to 12
+// states, where the loop above spends most of its time on loop and alias
+// overhead. No X_i (i >= 1) may alias z.
+template <int N>
+void linear_combination_fixed(int nvec, const double* c, N_Vector* X, N_Vector z) {
+  double acc[N];
+  const double* x0 = dat(X[0]);
+  for (int j = 0; j < N; ++j) acc[j] = c[0] * x0[j];
+  for (int i = 1; i < nvec; ++i) {
+    const double ci = c[i];
+    if (ci == 0.0) continue;
+    const double* xi = dat(X[i]);
+    for (int j = 0; j < N; ++j) acc[j] = acc[j] + ci * xi[j];
+  }
+  double* zd = dat(z);
+  for (int j = 0; j < N; ++j) zd[j] = acc[j];
+}
+
+using FixedCombination = void (*)(int, const double*, N_Vector*, N_Vector);
+template <int... N>
+constexpr std::array<FixedCombination, sizeof...(N)> fixed_combinations(std::integer_sequence<int, N...>) {
+  return {&linear_combination_fixed<N + 1>...};
+}
+constexpr int kFixedLengthMax = 16;  // lengths 1..16: single bodies (7 to 18 states) and small mechanisms
+constexpr auto kFixedCombinations = fixed_combinations(std::make_integer_sequence<int, kFixedLengthMax>{});
+
+int linear_combination(int nvec, double* c, N_Vector* X, N_Vector z) {
+  const Index n = len(z);
+  bool aliased = false;
+  for (int i = 1; i < nvec; ++i) aliased = aliased || X[i] == z;
+  if (n >= 1 && n <= kFixedLengthMax && !aliased)
+    kFixedCombinations[n - 1](nvec, c, X, z);
+  else
+    linear_combination_in_place(nvec, c, X, z);
   return 0;
 }
 

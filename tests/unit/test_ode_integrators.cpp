@@ -95,6 +95,46 @@ const Combo kSix[] = {{Coordinates::EulerAngles, Equations::Lagrange}, {Coordina
 
 }  // namespace
 
+TEST_CASE("ODE integrators: a sink that keeps only the last output gets the start and the end, the same bits, the same steps") {
+  // Counts the outputs it is given; `every` is what it tells the driver.
+  class Counting final : public StepSink {
+   public:
+    explicit Counting(bool every) : every_(every) {}
+    void on_step(double, double, int, const Eigen::VectorXd&) override { ++steps; }
+    void on_output(double t, const Eigen::VectorXd& y) override {
+      times.push_back(t);
+      y_last = y;
+    }
+    bool needs_every_output() const override { return every_; }
+    std::vector<double> times;
+    Eigen::VectorXd y_last;
+    long steps = 0;
+
+   private:
+    bool every_;
+  };
+  Scene s = scene_for("heavy_top.toml", Coordinates::Quaternion, Equations::Euler, "projection", 1e-8, 0.5);
+  s.time.output_step = 0.05;  // ten grid points after the start
+  for (const std::string integrator : {"arkode-erk", "cvode-adams"}) {
+    CAPTURE(integrator);
+    auto dae = assemble_dae(s);
+    const ProjectionPolicy p = dae->scheme().projection();
+    Counting all(true), last(false);
+    SingleBodyOde ode_all(*dae, s), ode_last(*dae, s);
+    const RunResult a = integrate_ode(ode_all, s.solver, s.time, {integrator, "fehlberg78", {p.enabled, p.every_step, p.threshold}}, all);
+    const RunResult b = integrate_ode(ode_last, s.solver, s.time, {integrator, "fehlberg78", {p.enabled, p.every_step, p.threshold}}, last);
+    REQUIRE(a.status == RunStatus::Success);
+    REQUIRE(b.status == RunStatus::Success);
+    CHECK(all.times.size() == 11);  // t = 0, 0.05, ..., 0.5
+    REQUIRE(last.times.size() == 2);
+    CHECK(last.times[0] == 0.0);
+    CHECK(last.times[1] == all.times.back());
+    CHECK(a.counters.steps == b.counters.steps);
+    CHECK(all.steps == last.steps);
+    CHECK((last.y_last.array() == all.y_last.array()).all());
+  }
+}
+
 TEST_CASE("ODE integrators: every representation x form meets the closed forms, and the error falls with rtol") {
   struct Case {
     const char* file;

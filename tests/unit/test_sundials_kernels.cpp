@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -157,6 +158,46 @@ TEST_CASE("rigidae's serial vector: the same bits as NVECTOR_SERIAL in every ope
       N_VLinearCombinationVectorArray(2, nvec >= 2 ? 2 : 1, cc, XXr, Or);
       N_VLinearCombinationVectorArray(2, nvec >= 2 ? 2 : 1, cc, XXo, Oo);
       CHECK((same_bits(z.ref, z.ours) && same_bits(w.ref, w.ours)));
+    }
+  }
+}
+
+TEST_CASE("rigidae's serial vector: ARKODE-sized linear combinations (zero coefficients, up to 14 terms) bit for bit") {
+  // An explicit Runge-Kutta stage: z = 1 * y_n + sum_j h a_ij F_j, with the
+  // zeros of a sparse table among the a_ij, on every length 1..20 (the
+  // fixed-length kernels up to 16 and the general loop beyond).
+  Context c;
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  for (sunindextype n = 1; n <= 20; ++n) {
+    CAPTURE(n);
+    std::vector<std::unique_ptr<Pair>> v;
+    for (int k = 0; k < 14; ++k) v.push_back(std::make_unique<Pair>(n, c.ctx, rng));
+    Pair z(n, c.ctx, rng);
+    for (int nvec = 1; nvec <= 14; ++nvec) {
+      CAPTURE(nvec);
+      double cc[14];
+      N_Vector Xr[14], Xo[14];
+      for (int k = 0; k < nvec; ++k) {
+        cc[k] = (k % 3 == 2) ? 0.0 : 1e-3 * u(rng);  // every third coefficient zero
+        Xr[k] = v[k]->ref;
+        Xo[k] = v[k]->ours;
+      }
+      cc[0] = 1.0;
+      N_VLinearCombination(nvec, cc, Xr, z.ref);
+      N_VLinearCombination(nvec, cc, Xo, z.ours);
+      CHECK(same_bits(z.ref, z.ours));
+      // z as the first term (allowed in the fixed kernels) and as a later one (the general loop).
+      Xr[0] = z.ref, Xo[0] = z.ours;
+      N_VLinearCombination(nvec, cc, Xr, z.ref);
+      N_VLinearCombination(nvec, cc, Xo, z.ours);
+      CHECK(same_bits(z.ref, z.ours));
+      if (nvec >= 2) {
+        Xr[nvec - 1] = z.ref, Xo[nvec - 1] = z.ours;
+        N_VLinearCombination(nvec, cc, Xr, z.ref);
+        N_VLinearCombination(nvec, cc, Xo, z.ours);
+        CHECK(same_bits(z.ref, z.ours));
+      }
     }
   }
 }

@@ -58,6 +58,19 @@ struct TermDerivatives {
   MatCV gamma_v;  // d(gamma)/dv
 };
 
+// The Euler form as an ODE in one fixed-size call, for the explicit and
+// multistep integrators (dae/single_body_ode.hpp): with x = (q, omega_B),
+//   q'       = N(q) omega_B
+//   omega_B' = J^-1 (tau(R(q)) - omega_B x J omega_B),   tau = c x (m R(q)^T g)
+// the same function evaluate() and a solve with M = J give, written for one
+// representation's sizes (coords/euler_form_rate.hpp): no dynamic-size
+// temporaries, J^-1 formed once. Hot path: allocates nothing.
+class EulerFormRate {
+ public:
+  virtual ~EulerFormRate() = default;
+  virtual void rate(const double* x, double* xdot) const = 0;
+};
+
 class Representation {
  public:
   virtual ~Representation() = default;
@@ -85,6 +98,11 @@ class Representation {
   // ... and d(Phi_q w)/dq (nc x nq) for a vector w of coordinate rates
   // (d(G w)/dq in the Force kind). The defaults are for nc = 0.
   virtual void constraint_hessian_applied(const VecQ& q, const VecQ& w, MatCQ& out) const;
+
+  // The Euler form's right-hand side as one fixed-size kernel (see
+  // EulerFormRate), or nullptr where the representation offers none (the
+  // Lagrange forms, Euler angles): the caller then goes through evaluate().
+  virtual const EulerFormRate* euler_form_rate() const { return nullptr; }
 
   // Coordinates and velocities of a physical state (R_WB an exact rotation).
   virtual void from_physical(const Mat3& R_WB, const Vec3& omega_B, VecQ& q, VecV& v) const = 0;

@@ -83,6 +83,9 @@ class SingleBodyOde final : public OdeProblem, public ChartState {
   // [M G^T; G 0] [x; m] = [top; bottom] at terms_, solved whole: for a mass
   // matrix that is singular while the saddle-point matrix is not.
   void saddle_point_solve(const VecV& top, const VecC& bottom, VecV& x, VecC& m) const;
+  // The current chart's fixed-size Euler-form kernel, or nullptr (then rhs()
+  // goes through evaluate() and a solve); follows chart_.
+  const EulerFormRate* kernel_ = nullptr;
   StandardTerms terms_;  // scratch of the hot path
   VecQ q_;
   VecV v_, acc_;

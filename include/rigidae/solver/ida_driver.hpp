@@ -65,6 +65,10 @@ class StepSink {
   virtual void on_step(double t, double h, int order, const Eigen::VectorXd& y) = 0;
   // At each point of the output grid (IDA's interpolation).
   virtual void on_output(double t, const Eigen::VectorXd& y) = 0;
+  // False: the sink keeps only the last output point (a timed run that
+  // records nothing), so the drivers interpolate and deliver only that one
+  // (and the start); the steps taken are the same either way.
+  virtual bool needs_every_output() const { return true; }
   // The problem's own events (chart switches, projections), as they happen.
   virtual void on_event(const EventNote& /*note*/) {}
 };
