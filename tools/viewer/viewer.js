@@ -145,7 +145,7 @@ export function start(THREE, data) {
       r.joints.forEach((m) => { m.visible = show.joints; });
       r.run.force_joints.forEach((j, a) => {
         const arrow = r.arrows[a], F = r.run.forces[i].slice(3 * a, 3 * a + 3);
-        const len = Math.hypot(F[0], F[1], F[2]) * r.forceScale;
+        const len = Math.min(Math.hypot(F[0], F[1], F[2]) * r.forceScale, 0.5 * extent);  // peaks capped
         arrow.visible = show.forces && len > 1e-9 * extent;
         if (!arrow.visible) return;
         r.root.updateMatrixWorld(true);
