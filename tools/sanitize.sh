@@ -42,7 +42,7 @@ if command -v ccache >/dev/null; then
   export CCACHE_BASEDIR="$PWD"
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 fi
-cmake -S . -B "$build" -G Ninja "${config[@]}" "${launcher[@]}" \
+cmake -S . -B "$build" -G Ninja "${config[@]}" "${launcher[@]}" -DRIGIDAE_VIEWER=OFF \
   -DCMAKE_CXX_FLAGS="$sanitizers -g1" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
 cmake --build "$build" -j"$(nproc)" "${targets[@]}"
 

@@ -10,4 +10,9 @@ int solve_command(const std::vector<std::string>& args);
 int compare_command(const std::vector<std::string>& args);
 int study_command(const std::vector<std::string>& args);
 
+// The commands that draw a run (draw_commands.cpp): view, vtk, animate.
+bool is_draw_command(const std::string& name);
+int draw_command_run(const std::string& name, const std::vector<std::string>& args);
+std::string draw_command_help(const std::string& name);
+
 }  // namespace rigidae::cli

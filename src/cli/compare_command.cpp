@@ -72,12 +72,15 @@ int compare_command(const std::vector<std::string>& args) {
     if (quiet) plot_args.push_back("--quiet");
     run_plot_script("plot_compare.py", plot_args);
   }
+  bool drawn = true;
+  if (cl.has("--view") && !report.rows.empty())
+    drawn = draw_command_run("view", {opt.out.string(), "--scene", scene.source}) == 0;
   if (!report.stopped.empty()) fmt::print(stderr, "rigidae: compare stopped: {}\n", report.stopped);
   if (!report.reference.ok && !report.interrupted) {
     fmt::print(stderr, "rigidae: error: {}\n", report.reference.message);
     return 1;
   }
-  return report.interrupted ? 1 : 0;
+  return report.interrupted || !drawn ? 1 : 0;
 }
 
 }  // namespace rigidae::cli

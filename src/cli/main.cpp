@@ -29,6 +29,9 @@ Usage:
   rigidae compare SCENE.toml [options]   every coordinates x equations x scheme side by side
   rigidae study [list|run|collect] STUDY.toml [options]
                                          accuracy studies: a grid of runs, sharded or not
+  rigidae view RUN_DIR [--out FILE.html] a page that plays a run in a browser (offline)
+  rigidae vtk RUN_DIR [--out DIR]        ParaView files (.pvd, .vtp) of the bodies' shapes
+  rigidae animate RUN_DIR [--out F.gif]  an animation (GIF or MP4) and a strobe picture
   rigidae COMMAND --help                 the options of one command
   rigidae --help                         this text
   rigidae --version                      version of rigidae
@@ -50,6 +53,8 @@ void print_help() {
   fmt::print("{}", kUsage);
   for (const char* name : {"solve", "compare", "study"})
     fmt::print("{}\n{}\n", std::string(79, '-'), cli::command_help(cli::command_info(name)));
+  for (const char* name : {"view", "vtk", "animate"})
+    fmt::print("{}\n{}\n", std::string(79, '-'), cli::draw_command_help(name));
   fmt::print("{}", kTrailer);
 }
 
@@ -102,8 +107,10 @@ int run(int argc, char** argv) {
   if (args[0] == "solve") return cli::solve_command(rest);
   if (args[0] == "compare") return cli::compare_command(rest);
   if (args[0] == "study") return cli::study_command(rest);
-  throw InputError(fmt::format("unknown command '{}'{} (valid commands: solve, compare, study; see rigidae --help)",
-                               text::printable(args[0]), cli::did_you_mean(args[0], {"solve", "compare", "study"})));
+  if (cli::is_draw_command(args[0])) return cli::draw_command_run(args[0], rest);
+  throw InputError(fmt::format(
+      "unknown command '{}'{} (valid commands: solve, compare, study, view, vtk, animate; see rigidae --help)",
+      text::printable(args[0]), cli::did_you_mean(args[0], {"solve", "compare", "study", "view", "vtk", "animate"})));
 }
 
 }  // namespace

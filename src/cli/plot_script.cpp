@@ -47,23 +47,59 @@ std::vector<std::filesystem::path> script_dirs() {
   return dirs;
 }
 
+// The script's path in the first of script_dirs() that holds it; empty when
+// none does (`searched` then lists the folders).
+std::filesystem::path find_script(const std::string& script, std::string& searched) {
+  for (const auto& d : script_dirs()) {
+    if (std::filesystem::exists(d / script)) return d / script;
+    searched += fmt::format("{}{}", searched.empty() ? "" : ", ", d.string());
+  }
+  if (searched.empty()) searched = "no folder";
+  return {};
+}
+
 }  // namespace
+
+std::filesystem::path find_shared_file(const std::string& relative) {
+  std::error_code ec;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec) return {};
+  const auto bin = exe.parent_path();
+  for (const auto& d : {(bin.parent_path() / "share" / "rigidae").lexically_normal(), bin / "share" / "rigidae"})
+    if (std::filesystem::exists(d / relative)) return d / relative;
+  return {};
+}
+
+int run_tool_script(const std::string& script, const std::vector<std::string>& args) {
+  std::fflush(stdout);
+  const char* python = "/usr/bin/python3";
+  std::string searched;
+  const std::filesystem::path path = find_script(script, searched);
+  if (path.empty()) {
+    fmt::print(stderr, "rigidae: error: {} not found in {} (set RIGIDAE_TOOLS_DIR to the folder holding rigidae's "
+                       "tools)\n", script, searched);
+    return 1;
+  }
+  if (!std::filesystem::exists(python)) {
+    fmt::print(stderr, "rigidae: error: {} not found (Debian's python3)\n", python);
+    return 1;
+  }
+  if (std::getenv("RIGIDAE_SHOW_PLOT_SCRIPT")) fmt::print(stderr, "rigidae: tool script {}\n", path.string());
+  std::vector<std::string> cmd{python, path.string()};
+  cmd.insert(cmd.end(), args.begin(), args.end());
+  const int rc = run_program(cmd);
+  if (rc != 0) fmt::print(stderr, "rigidae: error: {} exited with {}\n", path.string(), rc);
+  return rc;
+}
 
 bool run_plot_script(const std::string& script, const std::vector<std::string>& args) {
   std::fflush(stdout);  // our lines before the script's
   const char* python = "/usr/bin/python3";
-  std::filesystem::path path;
   std::string searched;
-  for (const auto& d : script_dirs()) {
-    if (std::filesystem::exists(d / script)) {
-      path = d / script;
-      break;
-    }
-    searched += fmt::format("{}{}", searched.empty() ? "" : ", ", d.string());
-  }
+  const std::filesystem::path path = find_script(script, searched);
   if (path.empty()) {
     fmt::print(stderr, "rigidae: warning: figures skipped: {} not found in {} (set RIGIDAE_TOOLS_DIR to the folder "
-                       "holding rigidae's plot scripts)\n", script, searched.empty() ? "no folder" : searched);
+                       "holding rigidae's plot scripts)\n", script, searched);
     return false;
   }
   if (!std::filesystem::exists(python)) {

@@ -79,6 +79,9 @@ int solve_command(const std::vector<std::string>& args) {
   if (error_estimate && scene.output.record == RecordMode::None)
     throw InputError("--error-estimate compares the output grids of two runs: it needs --record steps or grid, "
                      "not none");
+  if ((cl.has("--view") || cl.has("--vtk")) && scene.output.record == RecordMode::None)
+    throw InputError("--view and --vtk draw the output grid (trajectory.csv): they need --record steps or grid, "
+                     "not none");
   const std::string out_arg = cl.text("--out");
   const bool quiet = cl.has("--quiet");
 
@@ -130,11 +133,16 @@ int solve_command(const std::vector<std::string>& args) {
     if (quiet) plot_args.push_back("--quiet");
     run_plot_script("plot_solve.py", plot_args);
   }
+  // The page and the ParaView files of what was computed, also of a run that
+  // stopped early (they show how far it got).
+  bool drawn = true;
+  if (cl.has("--view")) drawn = draw_command_run("view", {out.string(), "--scene", scene.source}) == 0 && drawn;
+  if (cl.has("--vtk")) drawn = draw_command_run("vtk", {out.string(), "--scene", scene.source}) == 0 && drawn;
   if (o.run.status != RunStatus::Success) {
     fmt::print(stderr, "rigidae: error: {}\n", o.run.message);
     return 1;
   }
-  return 0;
+  return drawn ? 0 : 1;
 }
 
 }  // namespace rigidae::cli

@@ -51,10 +51,10 @@ constexpr std::array<std::string_view, 16> kRootKeys{
     "springs",        "loads",   "gravity",     "time",            "output",      "formulation", "solver",
     "expected_dof",   "mechanism"};
 constexpr std::array<std::string_view, 3> kMechanismKeys{"expected_dof", "assemble", "hold"};
-constexpr std::array<std::string_view, 14> kBodyKeys{
+constexpr std::array<std::string_view, 15> kBodyKeys{
     "name",     "mass",  "inertia_principal", "inertia",    "inertia_axes", "position",         "quaternion",
     "euler",    "matrix", "axis_angle",       "velocity",   "angular_velocity", "angular_velocity_frame",
-    "coordinates"};
+    "coordinates", "visual"};
 constexpr std::array<std::string_view, 3> kEulerKeys{"sequence", "convention", "angles"};
 constexpr std::array<std::string_view, 2> kAxisAngleKeys{"axis", "angle"};
 constexpr std::array<std::string_view, 12> kJointGeometryKeys{
@@ -79,11 +79,12 @@ constexpr std::array<std::string_view, 4> kLoadKeys{"body", "force", "torque", "
 constexpr std::array<std::string_view, 2> kOutputPartKeys{"bodies", "joints"};
 
 // Schema 2's own tables; the shared ones are added from scene_loader.cpp.
-std::array<SectionKeys, 8> own_sections() {
+std::array<SectionKeys, 9> own_sections() {
   return {{
     {"", kRootKeys},
     {"mechanism", kMechanismKeys},
     {"bodies", kBodyKeys},
+    {"bodies.visual", kVisualKeys},
     {"bodies.euler", kEulerKeys},
     {"bodies.axis_angle", kAxisAngleKeys},
     {"joints", joint_keys()},
@@ -94,7 +95,7 @@ std::array<SectionKeys, 8> own_sections() {
 
 const std::vector<SectionKeys>& sections() {
   static const std::vector<SectionKeys> all = [] {
-    const std::array<SectionKeys, 8> own = own_sections();
+    const std::array<SectionKeys, 9> own = own_sections();
     std::vector<SectionKeys> v(own.begin(), own.end());
     const auto shared = shared_sections();
     v.insert(v.end(), shared.begin(), shared.end());
@@ -487,6 +488,7 @@ class MultibodyReader {
         const std::vector<std::string_view> opts(names.begin(), names.end());
         b.coordinates = Coordinates(names[r_.choice(*c, join_key(prefix, "coordinates"), opts)]);
       }
+      b.visuals = read_visuals(r_, t, "bodies", prefix, sections());
       poses_.push_back({b.R0_WB, b.x0_W});
       body_index_.emplace(b.name, static_cast<int>(body_names_.size()));
       body_names_.push_back(b.name);

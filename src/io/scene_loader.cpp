@@ -52,8 +52,8 @@ constexpr int kMultibodySchemaVersion = 2;  // bodies and joints: multibody_load
 constexpr std::array<std::string_view, 12> kRootKeys{
     "schema_version", "name", "description", "body", "support",
     "gravity", "initial", "time", "output", "formulation", "solver", "reference"};
-constexpr std::array<std::string_view, 4> kBodyKeys{"mass", "inertia_principal", "inertia",
-                                                    "center_of_mass"};
+constexpr std::array<std::string_view, 5> kBodyKeys{"mass", "inertia_principal", "inertia",
+                                                    "center_of_mass", "visual"};
 constexpr std::array<std::string_view, 1> kSupportKeys{"type"};
 constexpr std::array<std::string_view, 1> kGravityKeys{"acceleration"};
 constexpr std::array<std::string_view, 6> kInitialKeys{
@@ -91,9 +91,10 @@ constexpr std::array<std::string_view, 4> kOrientationForms{"quaternion", "euler
 // Every table's keys, used to point a key written in the wrong table to the right one.
 struct Schema {
   SettingTables settings;
-  std::array<SectionKeys, 14> sections{{
+  std::array<SectionKeys, 15> sections{{
       {"", kRootKeys},
       {"body", kBodyKeys},
+      {"body.visual", detail::kVisualKeys},
       {"support", kSupportKeys},
       {"gravity", kGravityKeys},
       {"initial", kInitialKeys},
@@ -236,6 +237,7 @@ InertiaSource read_body(const TomlReader& r, const toml::table& root, Scene& sce
                              com.norm(), kMaxCenterOfMass));
     scene.body.com_B = com;
   }
+  scene.body.visuals = detail::read_visuals(r, body, "body", "body", schema().sections);
   return {mi.node, mi.name};
 }
 

@@ -4,10 +4,12 @@
 // multibody_loader.cpp, so both schemas accept exactly the same [gravity],
 // [time], [formulation], [solver], name and orientation forms. Internal to
 // the library.
+#include <array>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <toml++/toml.h>
 
@@ -59,6 +61,14 @@ void check_possible_moments(const TomlReader& r, const toml::node& node, std::st
 std::optional<Mat3> read_orientation(const TomlReader& r, const toml::table& tbl, std::string_view table,
                                      std::string_view prefix, std::span<const SectionKeys> schema,
                                      bool required);
+
+// A body's optional `visual` shapes (visual_loader.cpp): a table or an array
+// of tables under the body's table `table` ("body", "bodies"); `prefix`
+// names them in messages ("body", "bodies[2]").
+inline constexpr std::array<std::string_view, 7> kVisualKeys{"shape",    "size",       "radius", "length",
+                                                             "position", "quaternion", "axis"};
+std::vector<VisualShape> read_visuals(const TomlReader& r, const toml::table& body, std::string_view table,
+                                      std::string_view prefix, std::span<const SectionKeys> schema);
 
 // Schema 2 (multibody_loader.cpp): everything after schema_version.
 Scene read_multibody_scene(const TomlReader& r, const toml::table& root);

@@ -292,6 +292,13 @@ std::vector<Setting> make_table() {
   row({.option = "--plot", .commands = kSolve | kCompare, .kind = Kind::Boolean, .flag_value = "true",
        .default_text = "off",
        .help = "draw figures into DIR/figures (PNG and PDF) with tools/plot_solve.py or tools/plot_compare.py"});
+  row({.option = "--view", .commands = kSolve | kCompare, .kind = Kind::Boolean, .flag_value = "true",
+       .default_text = "off",
+       .help = "write DIR/view.html: a page that plays the run (a compare's runs side by side) in a browser, "
+               "offline (rigidae view; docs/viewer.md)"});
+  row({.option = "--vtk", .commands = kSolve, .kind = Kind::Boolean, .flag_value = "true", .default_text = "off",
+       .help = "write DIR/vtk/run.pvd: the bodies' shapes and points at each output time for ParaView "
+               "(rigidae vtk; docs/viewer.md)"});
   row({.option = "--keep-steps", .commands = kCompare | kStudy, .kind = Kind::Boolean, .flag_value = "true",
        .default_text = "off",
        .help = "keep each run's steps.csv (otherwise only summary.json, trajectory.csv and events.csv stay; "

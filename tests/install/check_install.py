@@ -50,7 +50,8 @@ for rel in ("bin/rigidae", f"{libdir}/librigidae_core.a", "include/rigidae/app/s
             "include/rigidae/io/scene_loader.hpp", f"{libdir}/cmake/rigidae/rigidaeConfig.cmake",
             f"{libdir}/cmake/rigidae/rigidaeConfigVersion.cmake", f"{libdir}/cmake/rigidae/rigidaeTargets.cmake",
             "share/rigidae/tools/plot_solve.py", "share/rigidae/tools/plot_compare.py",
-            "share/rigidae/tools/plot_study.py"):
+            "share/rigidae/tools/plot_study.py", "share/rigidae/tools/view_run.py",
+            "share/rigidae/tools/viewer/viewer.js", "share/rigidae/three/three.module.min.js"):
     check((prefix / rel).is_file(), f"{rel} installed")
 for rel in ("bin/rigidae", "share/rigidae/tools/plot_solve.py"):
     check(os.access(prefix / rel, os.X_OK), f"{rel} executable")
@@ -98,6 +99,13 @@ check(summary["run"]["command_line"].startswith(f"{moved / 'bin' / 'rigidae'} so
       summary["run"]["command_line"].endswith(" --plot -q --out " + str(work / "cli_run")),
       "summary.json run.command_line: " + summary["run"]["command_line"])
 print(f"installed CLI --plot: {script}")
+# rigidae view from the moved prefix: its tools and three.js (share/rigidae/three), nothing of the build tree.
+p = run(moved / "bin" / "rigidae", "view", work / "cli_run", "--out", work / "cli_run" / "page.html", env=env, cwd=work)
+check(f"rigidae: tool script {moved / 'share' / 'rigidae' / 'tools' / 'view_run.py'}\n" in p.stderr,
+      "the installed view script ran:\n" + p.stderr)
+page = (work / "cli_run" / "page.html").read_text()
+three = (moved / "share" / "rigidae" / "three" / "three.module.min.js").read_text()
+check(three in page, "the page inlines the installed three.js")
 # The CLI alone, without its share/ folder: a clear warning naming where it looked; the run still succeeds.
 lonely = work / "lonely" / "bin"
 lonely.mkdir(parents=True)

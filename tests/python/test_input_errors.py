@@ -88,8 +88,8 @@ def test_every_cli_scene_option_is_a_keyword():
     assert code == 0
     cli_options = set(re.findall(r"^\s+(?:-[a-z], )?--([a-z][a-z-]+)", out, re.M))
     # The command's own: out= and record= in Python; --error-estimate is a second run, not a setting;
-    # figures: CLI only.
-    own = {"out", "quiet", "help", "record", "error-estimate", "plot"}
+    # figures, the viewer's page and ParaView files: CLI only.
+    own = {"out", "quiet", "help", "record", "error-estimate", "plot", "view", "vtk"}
     assert {o.replace("-", "_") for o in cli_options - own} == set(rigidae.OPTIONS)
     doc = rigidae.solve.__doc__
     for name in rigidae.OPTIONS:

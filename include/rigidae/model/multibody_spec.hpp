@@ -21,6 +21,7 @@
 #include "rigidae/model/constraint_row.hpp"
 #include "rigidae/model/coordinates.hpp"
 #include "rigidae/model/joint_type.hpp"
+#include "rigidae/model/visual_shape.hpp"
 
 namespace rigidae {
 
@@ -42,6 +43,7 @@ struct BodySpec {
   Vec3 omega0_B = Vec3::Zero();    // rad/s, angular velocity in body components
   // Per-body override of the scene's coordinates (unset: the formulation's).
   std::optional<Coordinates> coordinates;
+  std::vector<VisualShape> visuals;  // how to draw it (none: its inertia ellipsoid); body frame
   SourcePosition where;
 };
 

@@ -8,6 +8,7 @@
 #include <optional>
 #include <utility>
 #include <string>
+#include <vector>
 
 #include "rigidae/core/run_settings.hpp"
 #include "rigidae/core/types.hpp"
@@ -29,6 +30,7 @@ struct RigidBodySpec {
   Mat3 inertia_com = Mat3::Identity();  // kg m^2 about the centre of mass, body axes, SPD
   Vec3 com_B = Vec3::Zero();            // m, centre of mass in the body frame,
                                         // measured from the body origin (the fixed point of a top)
+  std::vector<VisualShape> visuals;     // how to draw it (none: its inertia ellipsoid); body frame
 };
 
 struct EulerChartSpec {
