@@ -9,5 +9,6 @@ namespace rigidae::cli {
 int solve_command(const std::vector<std::string>& args);
 int compare_command(const std::vector<std::string>& args);
 int study_command(const std::vector<std::string>& args);
+int export_command(const std::vector<std::string>& args);
 
 }  // namespace rigidae::cli

@@ -29,6 +29,8 @@ Usage:
   rigidae compare SCENE.toml [options]   every coordinates x equations x scheme side by side
   rigidae study [list|run|collect] STUDY.toml [options]
                                          accuracy studies: a grid of runs, sharded or not
+  rigidae export --mjcf SCENE -o MODEL.xml
+                                         a mechanism scene (or .urdf) as a MuJoCo model
   rigidae COMMAND --help                 the options of one command
   rigidae --help                         this text
   rigidae --version                      version of rigidae
@@ -102,8 +104,11 @@ int run(int argc, char** argv) {
   if (args[0] == "solve") return cli::solve_command(rest);
   if (args[0] == "compare") return cli::compare_command(rest);
   if (args[0] == "study") return cli::study_command(rest);
-  throw InputError(fmt::format("unknown command '{}'{} (valid commands: solve, compare, study; see rigidae --help)",
-                               text::printable(args[0]), cli::did_you_mean(args[0], {"solve", "compare", "study"})));
+  if (args[0] == "export") return cli::export_command(rest);
+  throw InputError(fmt::format("unknown command '{}'{} (valid commands: solve, compare, study, export; see rigidae "
+                               "--help)",
+                               text::printable(args[0]),
+                               cli::did_you_mean(args[0], {"solve", "compare", "study", "export"})));
 }
 
 }  // namespace

@@ -62,5 +62,7 @@ std::optional<Mat3> read_orientation(const TomlReader& r, const toml::table& tbl
 
 // Schema 2 (multibody_loader.cpp): everything after schema_version.
 Scene read_multibody_scene(const TomlReader& r, const toml::table& root);
+// Schema 2 with [urdf] (urdf_scene.cpp): the bodies and joints from a URDF file.
+Scene read_urdf_scene(const TomlReader& r, const toml::table& root);
 
 }  // namespace rigidae::io::detail
