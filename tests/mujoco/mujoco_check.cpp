@@ -1,5 +1,5 @@
 // MuJoCo cross-check of the URDF import and the MJCF export (CTest
-// mujoco_arm6, mujoco_double_pendulum, mujoco_chain_10; built only when
+// mujoco_arm6, mujoco_double_pendulum, mujoco_chain_10, mujoco_joint_zoo; built only when
 // Debian's libmujoco-dev is found).
 //
 //   mujoco_check RIGIDAE_CLI SCENE.toml URDF|- [DT]
@@ -110,13 +110,15 @@ std::unique_ptr<mjModel, MjModelDeleter> load(const std::string& path) {
 }
 
 // Centre of mass of MuJoCo body `b` with the bodies welded to it (no joints
-// of their own between them), in space, after mj_forward.
-Vec3 welded_com(const mjModel* m, const mjData* d, int b) {
+// of their own between them, and not rigidae bodies of their own: `own`
+// marks those), in space, after mj_forward.
+Vec3 welded_com(const mjModel* m, const mjData* d, int b, const std::vector<bool>& own) {
   double mass = 0.0;
   Vec3 c = Vec3::Zero();
   for (int k = 1; k < m->nbody; ++k) {
+    if (k != b && own[k]) continue;
     int a = k;
-    while (a != b && m->body_jntnum[a] == 0 && m->body_parentid[a] != 0) a = m->body_parentid[a];
+    while (a != b && !own[a] && m->body_jntnum[a] == 0 && m->body_parentid[a] != 0) a = m->body_parentid[a];
     if (a != b) continue;
     mass += m->body_mass[k];
     c += m->body_mass[k] * Vec3(d->xipos[3 * k], d->xipos[3 * k + 1], d->xipos[3 * k + 2]);
@@ -197,12 +199,15 @@ int main(int argc, char** argv) try {
       if (id < 0) throw std::runtime_error(std::string(label) + ": no joint " + mb.joints[j].name);
       qadr[j] = m->jnt_qposadr[id];
     }
+    std::vector<bool> own(m->nbody, false);
+    for (const rigidae::BodySpec& b : mb.bodies)
+      if (const int id = mj_name2id(m, mjOBJ_BODY, b.name.c_str()); id >= 0) own[id] = true;
     mj_forward(m, d);
     double start_err = 0.0;
     for (const rigidae::BodySpec& b : mb.bodies) {
       const int id = mj_name2id(m, mjOBJ_BODY, b.name.c_str());
       if (id < 0) throw std::runtime_error(std::string(label) + ": no body " + b.name);
-      start_err = std::max(start_err, (welded_com(m, d, id) - b.x0_W).norm());
+      start_err = std::max(start_err, (welded_com(m, d, id, own) - b.x0_W).norm());
     }
     double worst = 0.0, worst_t = 0.0, body_rot = 0.0, body_com = 0.0;
     std::string worst_joint;
@@ -225,9 +230,9 @@ int main(int argc, char** argv) try {
         const auto& row = traj.rows[k];
         const Vec3 x(row[traj.column(n, "x")], row[traj.column(n, "y")], row[traj.column(n, "z")]);
         body_rot = std::max(body_rot, rigidae::so3::rotation_distance(R_mj, R_at(b, k)));
-        body_com = std::max(body_com, (welded_com(m, d, id) - x).norm());
+        body_com = std::max(body_com, (welded_com(m, d, id, own) - x).norm());
       }
-      if (std::getenv("MUJOCO_CHECK_VERBOSE") && k % 10 == 0) std::printf("  t = %.2f s: worst joint error %.3e rad\n", d->time, row_worst);
+      if (all_revolute && std::getenv("MUJOCO_CHECK_VERBOSE") && k % 10 == 0) std::printf("  t = %.2f s: worst joint error %.3e rad\n", d->time, row_worst);
     }
     std::printf("%-34s nq %d: initial COM within %.2e m; bodies within %.2e rad and %.2e m", label, m->nq, start_err,
                 body_rot, body_com);
