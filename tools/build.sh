@@ -8,6 +8,8 @@ cd "$(dirname "$0")/.."
 packages=(g++ cmake ninja-build pkg-config
           libsundials-dev libeigen3-dev libsuitesparse-dev libfmt-dev doctest-dev
           libtomlplusplus-dev nlohmann-json3-dev
+          libtinyxml2-dev                        # URDF files (src/io/urdf_reader.cpp)
+          libmujoco-dev libqhull-dev             # the URDF arm's MuJoCo cross-check (tests/mujoco/); qhull: named by mujoco::mujoco
           python3-numpy python3-matplotlib
           python3-dev pybind11-dev python3-pytest
           python3-venv python3-pip python3-setuptools python3-wheel  # pip install . (README "Install")

@@ -25,7 +25,9 @@ const std::array<CommandInfo, 3> kCommands{{
      "Integrates a scene and writes steps.csv (every IDA step; steps.npy with\n"
      "--step-format npy), trajectory.csv (the output grid), events.csv (chart\n"
      "switches, projections) and summary.json into a folder; --record grid|none\n"
-     "writes less. Options override the scene file (docs/scene_format.md).\n",
+     "writes less. Options override the scene file (docs/scene_format.md).\n"
+     "SCENE may be a URDF file (.urdf: default run settings) or a scene with\n"
+     "[urdf] (docs/scene_format.md, \"URDF robots\").\n",
      "", kExitCodes},
     {settings::kCompare, "compare", "rigidae compare SCENE.toml [options]",
      "Runs every applicable coordinates x equations x scheme combination against one\n"

@@ -78,17 +78,6 @@ json body_json(const std::string& name, const std::string& columns, double mass,
               {"center_of_mass", vec(com_B)}, {"visuals", shapes}, {"inertia_ellipsoid", ellipsoid}};
 }
 
-const char* joint_type_name(JointType t) {
-  switch (t) {
-    case JointType::Spherical: return "spherical";
-    case JointType::Revolute: return "revolute";
-    case JointType::Universal: return "universal";
-    case JointType::Prismatic: return "prismatic";
-    case JointType::Cylindrical: return "cylindrical";
-    case JointType::Fixed: return "fixed";
-  }
-  return "joint";
-}
 
 }  // namespace
 
@@ -119,7 +108,7 @@ std::string scene_geometry_json(const Scene& scene) {
       // the ground): the marker and the arrow go there.
       const bool on_b = j.body_b != kGround;
       json joint{{"name", j.name},
-                 {"type", joint_type_name(j.type)},
+                 {"type", std::string(j.type->name)},
                  {"body", on_b ? j.body_b : j.body_a},
                  {"point", vec(on_b ? j.point_b : j.point_a)},
                  {"other", on_b ? j.body_a : j.body_b},

@@ -205,6 +205,22 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
     o.note += "; " + ar.note;
     j["note"] = o.note;
   }
+  // URDF limits (model/multibody_spec.hpp, JointLimits): data, never enforced.
+  {
+    nlohmann::json limits = nlohmann::json::array();
+    const auto opt = [](const std::optional<double>& x) { return x ? nlohmann::json(*x) : nlohmann::json(nullptr); };
+    for (const JointSpec& js : scene.multibody->joints)
+      if (js.limits)
+        limits.push_back({{"joint", js.name},
+                          {"lower", opt(js.limits->lower)},
+                          {"upper", opt(js.limits->upper)},
+                          {"effort", opt(js.limits->effort)},
+                          {"velocity", opt(js.limits->velocity)}});
+    if (!limits.empty())
+      j["joint_limits"] = {{"enforced", false},
+                           {"note", "kept as data from the URDF: rigidae has no joint stops, so joints may pass them"},
+                           {"joints", limits}};
+  }
   add_provenance(j);  // "build" and "run"
   o.start_warnings = problem.warnings();  // printed by the command (solve: each run; compare: once)
   try {

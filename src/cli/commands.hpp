@@ -9,6 +9,7 @@ namespace rigidae::cli {
 int solve_command(const std::vector<std::string>& args);
 int compare_command(const std::vector<std::string>& args);
 int study_command(const std::vector<std::string>& args);
+int export_command(const std::vector<std::string>& args);
 
 // The commands that draw a run (draw_commands.cpp): view, vtk, animate.
 bool is_draw_command(const std::string& name);

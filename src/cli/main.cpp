@@ -32,6 +32,8 @@ Usage:
   rigidae view RUN_DIR [--out FILE.html] a page that plays a run in a browser (offline)
   rigidae vtk RUN_DIR [--out DIR]        ParaView files (.pvd, .vtp) of the bodies' shapes
   rigidae animate RUN_DIR [--out F.gif]  an animation (GIF or MP4) and a strobe picture
+  rigidae export --mjcf SCENE -o MODEL.xml
+                                         a mechanism scene (or .urdf) as a MuJoCo model
   rigidae COMMAND --help                 the options of one command
   rigidae --help                         this text
   rigidae --version                      version of rigidae
@@ -108,9 +110,11 @@ int run(int argc, char** argv) {
   if (args[0] == "compare") return cli::compare_command(rest);
   if (args[0] == "study") return cli::study_command(rest);
   if (cli::is_draw_command(args[0])) return cli::draw_command_run(args[0], rest);
+  if (args[0] == "export") return cli::export_command(rest);
   throw InputError(fmt::format(
-      "unknown command '{}'{} (valid commands: solve, compare, study, view, vtk, animate; see rigidae --help)",
-      text::printable(args[0]), cli::did_you_mean(args[0], {"solve", "compare", "study", "view", "vtk", "animate"})));
+      "unknown command '{}'{} (valid commands: solve, compare, study, view, vtk, animate, export; see rigidae --help)",
+      text::printable(args[0]),
+      cli::did_you_mean(args[0], {"solve", "compare", "study", "view", "vtk", "animate", "export"})));
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 // "FILE:LINE:COL: error: " (the position of the offending key or value, or of
 // the enclosing table when a key is missing) and says what would be valid.
 #include "rigidae/io/scene_loader.hpp"
+#include "rigidae/io/urdf.hpp"
 #include "parse_hints.hpp"
 #include "rigidae/schemes/scheme.hpp"
 
@@ -626,6 +627,8 @@ Scene read_scene(const TomlReader& r, const toml::table& root) {
   // the keys it renamed.
   // (Unless it is missing: then a misspelt key is the likelier cause -- but
   // not in a file of bodies and joints, whose keys are schema 2's.)
+  // A robot from a URDF file (urdf_scene.cpp): schema 2 without [[bodies]].
+  if (root.get("urdf")) return detail::read_urdf_scene(r, root);
   const bool has_bodies = root.get("bodies") || root.get("joints");
   if (!root.get("schema_version") && !has_bodies) r.check_keys(root, "", kRootKeys, schema().sections);
   const toml::node& ver =
@@ -706,6 +709,11 @@ Scene parse_scene(const std::string& text, const std::string& source_name) {
 }
 
 Scene load_scene(const std::string& path) {
+  // A URDF file on its own: default run settings (urdf_scene.cpp).
+  if (const std::string ext = std::filesystem::path(path).extension().string();
+      ext.size() == 5 && text::lower(ext[1]) == 'u' && text::lower(ext[2]) == 'r' && text::lower(ext[3]) == 'd' &&
+      text::lower(ext[4]) == 'f')
+    return load_urdf_scene(path);
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw InputError(fmt::format("{}: error: cannot read scene file '{}': it is a directory", path, path));

@@ -72,5 +72,7 @@ std::vector<VisualShape> read_visuals(const TomlReader& r, const toml::table& bo
 
 // Schema 2 (multibody_loader.cpp): everything after schema_version.
 Scene read_multibody_scene(const TomlReader& r, const toml::table& root);
+// Schema 2 with [urdf] (urdf_scene.cpp): the bodies and joints from a URDF file.
+Scene read_urdf_scene(const TomlReader& r, const toml::table& root);
 
 }  // namespace rigidae::io::detail

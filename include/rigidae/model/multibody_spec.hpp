@@ -47,6 +47,15 @@ struct BodySpec {
   SourcePosition where;
 };
 
+// A joint's range of motion as a URDF states it (<limit>): kept as data and
+// written to exported models, NOT enforced by the solver (no contact or
+// stop rows exist); summary.json says so. Units: rad or m, N m or N, rad/s
+// or m/s.
+struct JointLimits {
+  std::optional<double> lower, upper;  // unset: unbounded (a continuous joint)
+  std::optional<double> effort, velocity;
+};
+
 struct JointSpec {
   std::string name;
   const JointType* type = nullptr;  // the registry's (model/joint_type.hpp); set by the loader
@@ -65,6 +74,7 @@ struct JointSpec {
   double torsion_stiffness = 0.0;  // N m / rad
   double torsion_damping = 0.0;    // N m s / rad
   double torsion_rest_angle = 0.0; // rad
+  std::optional<JointLimits> limits;  // data only (URDF), never enforced
   SourcePosition where;
 };
 
