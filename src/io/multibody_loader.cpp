@@ -155,9 +155,10 @@ std::string lowercase(std::string_view s) {
 Vec3 bounded_vec3(const TomlReader& r, const toml::node& n, const std::string& name, double max,
                   std::string_view unit) {
   const Vec3 v = r.vec3(n, name);
-  if (v.norm() > max)
+  // stableNorm: |(0, 1e300, 0)| is 1e300 as given, not the overflow of its square
+  if (v.stableNorm() > max)
     r.fail(n, fmt::format("|{}| = {:g} {} is too large; it must be at most {:g} {} (check the units)", name,
-                          v.norm(), unit, max, unit));
+                          v.stableNorm(), unit, max, unit));
   return v;
 }
 

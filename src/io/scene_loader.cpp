@@ -294,10 +294,10 @@ void read_gravity(const TomlReader& r, const toml::table& root, Scene& scene) {
   r.check_keys(*g, "gravity", kGravityKeys, schema().sections);
   if (const toml::node* a = g->get("acceleration")) {
     const Vec3 acc = r.vec3(*a, "gravity.acceleration");
-    if (acc.norm() > kMaxGravity)
+    if (acc.stableNorm() > kMaxGravity)
       r.fail(*a, fmt::format("|gravity.acceleration| = {} m/s^2 is too large; it must be at most "
                              "{:g} m/s^2",
-                             acc.norm(), kMaxGravity));
+                             acc.stableNorm(), kMaxGravity));
     scene.gravity_W = acc;
   }
 }
@@ -640,6 +640,11 @@ Scene read_scene(const TomlReader& r, const toml::table& root) {
     r.fail(ver, fmt::format("unsupported schema_version {}; this version of rigidae reads "
                             "schema_version = {} (one body) or {} (bodies and joints)",
                             version, kSchemaVersion, kMultibodySchemaVersion));
+  if (has_bodies)
+    r.fail(ver, fmt::format("schema_version = 1 is a scene of one body ([body], [initial]), but this file has "
+                            "schema 2's [[{}]]: write schema_version = 2 for bodies and joints (see "
+                            "docs/scene_format.md)",
+                            root.get("bodies") ? "bodies" : "joints"));
   r.check_keys(root, "", kRootKeys, schema().sections);
   read_scene_name_impl(r, root, scene);
 

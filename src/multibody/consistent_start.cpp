@@ -309,15 +309,22 @@ void MultibodyProblem::start(const Scene& scene) {
     warnings_.push_back(fmt::format("{}: the initial poses missed the joint by {:.3g}; projected onto the joints",
                                     worst_row, worst));
   double dv = 0.0;
-  for (const BodyModel& b : bodies_)
-    dv = std::max(dv, (y0_.segment(groups_[b.v_group].offset, groups_[b.v_group].size) -
-                       v_before.segment(groups_[b.v_group].offset, groups_[b.v_group].size))
-                          .cwiseAbs()
-                          .maxCoeff());
-  if (dv > 1e-10)
-    warnings_.push_back(fmt::format("initial velocities violated the joints; projected onto G v = 0 in the mass "
-                                    "metric (largest change {:.3g})",
-                                    dv));
+  int moved = -1;
+  for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) {
+    const BodyModel& b = bodies_[i];
+    const double d = (y0_.segment(groups_[b.v_group].offset, groups_[b.v_group].size) -
+                      v_before.segment(groups_[b.v_group].offset, groups_[b.v_group].size))
+                         .cwiseAbs()
+                         .maxCoeff();
+    if (d > dv) dv = d, moved = i;
+  }
+  if (dv > 1e-10) {
+    const SourcePosition& w = spec_.bodies[moved].where;
+    warnings_.push_back(fmt::format("{}body '{}': the initial velocities violated the joints; projected onto "
+                                    "G v = 0 in the mass metric (largest change {:.3g}, on this body)",
+                                    w.file.empty() ? "" : fmt::format("{}:{}:{}: ", w.file, w.line, w.column),
+                                    bodies_[moved].name, dv));
+  }
 }
 
 void MultibodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::VectorXd& yp) {

@@ -20,6 +20,7 @@
 #include "rigidae/core/error.hpp"
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/multibody/assembly.hpp"
+#include "rigidae/multibody/multibody_problem.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
 #include "rigidae/so3/rotation.hpp"
 
@@ -444,6 +445,36 @@ TEST_CASE("schema 2: a nearly perpendicular normal or pin is corrected with a wa
   const JointSpec& j = m.joints[0];
   CHECK(std::abs((m.bodies[0].R0_WB * j.axis_a).dot(m.bodies[1].R0_WB * j.axis_b)) < 1e-16);
   CHECK((m.bodies[1].R0_WB * j.axis_b - Vec3::UnitY()).norm() < 1e-15);
+}
+
+TEST_CASE("schema 2: hostile inputs are reported as given (schema 1 with bodies, a velocity of 1e300, a velocity that breaks a joint)") {
+  const std::string pendulum = rigidae::test::read_file(kProblems / "double_pendulum.toml");
+  // schema_version = 1 in a file of [[bodies]]: told to write 2, at the version's line.
+  std::string one = pendulum;
+  const std::size_t ver = one.find("schema_version = 2");
+  REQUIRE(ver != std::string::npos);
+  one.replace(ver, 18, "schema_version = 1");
+  const int ver_line = 1 + static_cast<int>(std::count(one.begin(), one.begin() + static_cast<long>(ver), '\n'));
+  CHECK_MB_ERROR(one, ver_line, "schema_version = 1 is a scene of one body", "write schema_version = 2");
+  // A velocity of 1e300 m/s: its size as given (1e+300), not the overflow of its square.
+  std::string huge = pendulum;
+  const std::size_t v = huge.find("\nvelocity = [0.0, 0.5, 0.0]");
+  REQUIRE(v != std::string::npos);
+  huge.replace(v, 27, "\nvelocity = [0.0, 1e300, 0.0]");
+  const int v_line = 2 + static_cast<int>(std::count(huge.begin(), huge.begin() + static_cast<long>(v), '\n'));
+  CHECK_MB_ERROR(huge, v_line, "= 1e+300 m/s is too large");
+  CHECK(error_of(huge).find("inf") == std::string::npos);
+  // A velocity the joints forbid: projected, and the warning names the body and its table's line.
+  std::string off = pendulum;
+  off.replace(v, 27, "\nvelocity = [0.0, 0.5, 0.3]");
+  multibody::MultibodyProblem p(io::parse_scene(off, "mb.toml"));
+  bool named = false;
+  for (const std::string& w : p.warnings())
+    if (w.find("the initial velocities violated the joints") != std::string::npos) {
+      CAPTURE(w);
+      named = w.rfind("mb.toml:", 0) == 0 && w.find("body '") != std::string::npos;
+    }
+  CHECK(named);
 }
 
 TEST_SUITE_END();
