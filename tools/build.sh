@@ -13,9 +13,12 @@ packages=(g++ cmake ninja-build pkg-config
           python3-numpy python3-matplotlib
           python3-dev pybind11-dev python3-pytest
           python3-venv python3-pip python3-setuptools python3-wheel  # pip install . (README "Install")
-          npm                  # three.js for rigidae view, installed into build/ (CMakeLists.txt)
           chromium             # the viewer's test opens its page headless (tests/python/test_view.py)
           ffmpeg)              # rigidae animate --out X.mp4, and ffprobe in its test
+# npm fetches three.js for rigidae view into build/ (CMakeLists.txt). Debian's
+# npm package conflicts with a Node.js installed from elsewhere (NodeSource's
+# nodejs ships its own npm): install it only when no npm is on PATH.
+command -v npm >/dev/null || packages+=(npm)
 bash tools/install_missing.sh rigidae "${packages[@]}"
 
 # ccache, when present, shares compiled objects between checkouts of the
