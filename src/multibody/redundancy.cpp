@@ -288,13 +288,8 @@ std::pair<double, double> MultibodyProblem::dropped_drift(const double* y) {
   double pos = 0.0, vel = 0.0;
   if (redundancy_.dropped.empty()) return {pos, vel};
   if (y != evaluated_y_) evaluate(0.0, y, 2);
-  for (const RedundantRow& d : redundancy_.dropped) {
-    const JointSpec& js = spec_.joints[d.joint];
-    BlockSides sides;
-    sides.body[0] = js.body_a;
-    sides.body[1] = js.body_b;
-    for (int x = 0; x < 2; ++x) sides.state[x] = sides.body[x] == kGround ? nullptr : &work_[sides.body[x]].st;
-    evaluate_rows(&d.constraint, 1, sides, *dropped_eval_);
+  for (int k = 0; k < static_cast<int>(redundancy_.dropped.size()); ++k) {
+    evaluate_dropped_row(k);
     pos = std::max(pos, std::abs(dropped_eval_->phi(0)));
     vel = std::max(vel, std::abs(dropped_eval_->Gv(0)));
   }
@@ -366,7 +361,7 @@ void MultibodyProblem::check_redundant_rows(double t0) {
   }
 }
 
-double MultibodyProblem::dropped_row_miss(int k) {
+void MultibodyProblem::evaluate_dropped_row(int k) {
   const RedundantRow& d = redundancy_.dropped[k];
   const JointSpec& js = spec_.joints[d.joint];
   BlockSides sides;
@@ -374,6 +369,10 @@ double MultibodyProblem::dropped_row_miss(int k) {
   sides.body[1] = js.body_b;
   for (int x = 0; x < 2; ++x) sides.state[x] = sides.body[x] == kGround ? nullptr : &work_[sides.body[x]].st;
   evaluate_rows(&d.constraint, 1, sides, *dropped_eval_);
+}
+
+double MultibodyProblem::dropped_row_miss(int k) {
+  evaluate_dropped_row(k);
   return std::abs(dropped_eval_->phi(0));
 }
 

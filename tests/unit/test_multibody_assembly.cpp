@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "cli_runner.hpp"
+#include "scene_edit.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/multibody/assembly.hpp"
@@ -158,14 +159,7 @@ TEST_CASE("[mechanism] assemble and hold: bad values are positioned errors") {
   REQUIRE(at != std::string::npos);
   const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
   const auto error_of = [&](const std::string& replacement) {
-    std::string t2 = text;
-    t2.replace(at, key.size(), replacement);
-    try {
-      io::parse_scene(t2, "fb.toml");
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
+    return rigidae::test::parse_error_with(text, at, key.size(), replacement, "fb.toml");
   };
   const struct {
     const char* value;

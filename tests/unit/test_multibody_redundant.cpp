@@ -25,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
+#include "scene_edit.hpp"
 #include "rigidae/app/solve.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/io/scene_loader.hpp"
@@ -195,14 +196,7 @@ TEST_CASE("redundant: expected_dof warns when the mobility differs, and bad valu
     CHECK(warned);
   }
   const auto error_of = [&](const std::string& replacement) {
-    std::string t2 = text;
-    t2.replace(at, key.size(), replacement);
-    try {
-      io::parse_scene(t2, "fb.toml");
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
+    return rigidae::test::parse_error_with(text, at, key.size(), replacement, "fb.toml");
   };
   for (const std::string bad : {"expected_dof = -1", "expected_dof = 1.5", "expected_dof = \"one\"",
                                 "expected_dof = 19", "expected_dofs = 1"}) {

@@ -240,6 +240,8 @@ class MultibodyProblem final : public DaeProblem {
   };
   // |Phi| of the k-th row set aside, at the bodies' last evaluate().
   double dropped_row_miss(int k);
+  // Dropped row k evaluated into *dropped_eval_ at the bodies' evaluated state.
+  void evaluate_dropped_row(int k);
   void evaluate(double t, const double* y, int order);
   void evaluate_block(int j, const double* y, const double* yp);
   void differentiate_block(int j, const double* y, const double* yp);
