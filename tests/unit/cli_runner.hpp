@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "scratch_dir.hpp"
+
 namespace rigidae::test {
 
 struct CliResult {
@@ -33,15 +35,10 @@ inline CliResult run_cli(const std::string& args) {
   return r;
 }
 
-// A folder of its own under the system's temporary directory, emptied. The
-// process id keeps test binaries of several build folders, run at the same
-// time, apart.
+// A folder of its own under the system's temporary directory, emptied
+// (scratch_dir.hpp: removed when the test passes).
 inline std::filesystem::path fresh_temp_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / "rigidae_cli_tests" /
-                   (std::to_string(::getpid()) + "-" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
+  return scratch_dir("rigidae_cli_tests", name);
 }
 
 inline std::string read_file(const std::filesystem::path& p) {

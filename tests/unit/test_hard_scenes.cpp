@@ -21,6 +21,7 @@
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/model/rigid_body.hpp"
 #include "rigidae/so3/rotation.hpp"
+#include "scratch_dir.hpp"
 
 TEST_SUITE_BEGIN("system");
 
@@ -40,9 +41,7 @@ Scene with(Scene s, Coordinates c, Equations e, const std::string& scheme = "ggl
 }
 
 std::filesystem::path scratch(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / "rigidae_tests" / "hard" / (std::to_string(::getpid()) + "-" + name);
-  std::filesystem::remove_all(dir);
-  return dir;
+  return test::scratch_dir("rigidae_tests/hard", name, false);
 }
 
 // A run's output grid read back from trajectory.csv (t, q_WB, omega_B).

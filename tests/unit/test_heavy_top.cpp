@@ -8,6 +8,7 @@
 
 #include "rigidae/app/solve.hpp"
 #include "rigidae/so3/rotation.hpp"
+#include "scratch_dir.hpp"
 #include "test_scenes.hpp"
 
 TEST_SUITE_BEGIN("system");
@@ -17,9 +18,7 @@ using namespace rigidae;
 namespace {
 
 std::filesystem::path scratch(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / "rigidae_tests" / (std::to_string(::getpid()) + "-" + name);
-  std::filesystem::remove_all(dir);
-  return dir;
+  return test::scratch_dir("rigidae_tests", name, false);
 }
 
 SolveOutcome run(Coordinates c, Equations e, const std::string& scheme, double tol) {

@@ -10,6 +10,7 @@
 #include <vector>
 #include <string>
 
+#include "scratch_dir.hpp"
 #include "rigidae/app/solve.hpp"
 #include "test_multibody_scenes.hpp"
 
@@ -21,8 +22,7 @@ TEST_CASE("multibody solve: trajectory, steps, events and summary with named col
   Scene s = test::absolute_heavy_top(Coordinates::Quaternion, Equations::Euler, "ggl");
   s.name = "heavy_top_absolute";
   s.time = {0.0, 0.05, 0.01};
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "rigidae_multibody_solve_test";
-  std::filesystem::remove_all(dir);
+  const std::filesystem::path dir = test::scratch_dir("rigidae_multibody_solve_test", "solve", false);
   const SolveOutcome o = solve_scene(s, dir);
   REQUIRE(o.run.status == RunStatus::Success);
   for (const char* f : {"trajectory.csv", "steps.csv", "events.csv", "summary.json"})

@@ -13,6 +13,7 @@
 #include "rigidae/dae/dae_system.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/so3/rotation.hpp"
+#include "scratch_dir.hpp"
 #include "test_scenes.hpp"
 
 TEST_SUITE_BEGIN("system");
@@ -22,9 +23,7 @@ using namespace rigidae;
 namespace {
 
 std::filesystem::path scratch(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / "rigidae_scheme_tests" / (std::to_string(::getpid()) + "-" + name);
-  std::filesystem::remove_all(dir);
-  return dir;
+  return test::scratch_dir("rigidae_scheme_tests", name, false);
 }
 
 SolveOutcome run(Scene s, const std::string& tag = "") {
