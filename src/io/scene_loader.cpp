@@ -728,12 +728,17 @@ Scene load_scene(const std::string& path) {
     throw InputError(fmt::format("{}: error: cannot open scene file '{}': {}", path, path,
                                  err ? std::strerror(err) : "unreadable"));
   }
-  // Read at most one byte more than a scene may have: a huge file or a
-  // device such as /dev/zero is refused without reading it all.
-  std::string text(kMaxSceneBytes + 1, '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  // Read in chunks, at most one byte more than a scene may have: a huge file
+  // or a device such as /dev/zero is refused without reading it all, and a
+  // short scene costs no more than its size (a buffer of the whole limit,
+  // zeroed, cost ~20 ms per run).
+  std::string text;
+  char chunk[1 << 16];
+  while (text.size() <= kMaxSceneBytes && in) {
+    in.read(chunk, static_cast<std::streamsize>(sizeof chunk));
+    text.append(chunk, static_cast<std::size_t>(in.gcount()));
+  }
   if (in.bad()) throw InputError(fmt::format("{}: error: cannot read scene file '{}'", path, path));
-  text.resize(static_cast<std::size_t>(in.gcount()));
   if (text.size() > kMaxSceneBytes)
     throw InputError(fmt::format("{}: error: scene file '{}' is larger than {} bytes; a scene is a short TOML "
                                  "file (see problems/*.toml)",
