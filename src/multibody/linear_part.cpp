@@ -19,8 +19,8 @@
 
 namespace rigidae::multibody {
 
-void MultibodyProblem::assemble_linear_part(double t, const double* y, JacobianSink& sink) {
-  evaluate(t, y, work_.empty() || work_[0].st.lagrange ? 2 : 1);
+void MultibodyProblem::assemble_linear_part(double t, const double* y, JacobianSink& sink, bool just_evaluated) {
+  if (!just_evaluated) evaluate(t, y, work_.empty() || work_[0].st.lagrange ? 2 : 1);
   for (const BodyModel& b : bodies_) {
     const BodyWork& w = work_[&b - bodies_.data()];
     sink.add_diagonal(b.q_group, 1.0);
@@ -31,7 +31,7 @@ void MultibodyProblem::assemble_linear_part(double t, const double* y, JacobianS
     const ConstraintBlock& blk = blocks_[j];
     if (blk.mu_group >= 0 || blk.kind != ConstraintKind::Force)
       throw SolverError("linear_part: a block with mu or of the kinematic kind has no acceleration-level form");
-    evaluate_block(j, y, nullptr);
+    if (!just_evaluated) evaluate_block(j, y, nullptr);
     const BlockEval& e = block_eval_[j];
     for (int x = 0; x < 2; ++x) {
       const int bi = blk.body_of_side[x];
@@ -43,10 +43,10 @@ void MultibodyProblem::assemble_linear_part(double t, const double* y, JacobianS
   }
 }
 
-void MultibodyProblem::linear_part_sparse(double t, const double* y, double* values) {
+void MultibodyProblem::linear_part_sparse(double t, const double* y, double* values, bool just_evaluated) {
   std::fill(values, values + pattern_.nnz(), 0.0);
   sink_->start_sparse(values);
-  assemble_linear_part(t, y, *sink_);
+  assemble_linear_part(t, y, *sink_, just_evaluated);
 }
 
 void MultibodyProblem::follow_motion(double t, const double* y) {

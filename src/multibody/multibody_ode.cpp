@@ -151,7 +151,7 @@ bool MultibodyOde::factorise(double t, const double* x) {
   y_.head(n_state_) = Eigen::Map<const Eigen::VectorXd>(x, n_state_);
   y_.tail(n_ - n_state_).setZero();
   if (!problem_.residual(t, y_.data(), yp_zero_.data(), F0_.data())) return false;
-  problem_.linear_part_sparse(t, y_.data(), values_.data());
+  problem_.linear_part_sparse(t, y_.data(), values_.data(), /*just_evaluated=*/true);
   for (int k = 0; k < ns_; ++k) rhs_[k] = -F0_[s_index_[k]];
   if (klu_) {
     for (std::size_t k = 0; k < k_from_.size(); ++k) kkt_values_[k] = values_[k_from_[k]];

@@ -226,7 +226,10 @@ class MultibodyProblem final : public DaeProblem {
   //   F(t, y, y') = A(t, q, v) [y'_state; lambda] + F(t, (q, v, 0), 0).
   // Writes A: on the state's columns dF/dy', on the multipliers' dF/dy; on
   // sparsity()'s pattern (values zeroed here). Allocates nothing.
-  void linear_part_sparse(double t, const double* y, double* values);
+  // `just_evaluated`: residual(t, y, .) was the last evaluation, at this same
+  // (t, y), so the bodies' terms and the blocks' rows are reused, not
+  // evaluated again (the ODE form's right-hand side: half its cost).
+  void linear_part_sparse(double t, const double* y, double* values, bool just_evaluated = false);
   // After an accepted step of an ODE run: force elements with a state of
   // their own (a torsion angle's branch) follow the motion (after_step's part
   // that is not a restart).
@@ -246,7 +249,7 @@ class MultibodyProblem final : public DaeProblem {
   void evaluate_block(int j, const double* y, const double* yp);
   void differentiate_block(int j, const double* y, const double* yp);
   void assemble_jacobian(double t, double cj, const double* y, const double* yp, JacobianSink& sink);
-  void assemble_linear_part(double t, const double* y, JacobianSink& sink);
+  void assemble_linear_part(double t, const double* y, JacobianSink& sink, bool just_evaluated);
   void add_forces(const double* y, double* F);
   void add_force_jacobian(const double* y, JacobianSink& sink);
   // After an accepted step (bodies evaluated): the force elements and the
