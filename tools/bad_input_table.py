@@ -63,9 +63,9 @@ rotation), with how far off it was. Messages are shown exactly, with the
 repository-relative path. Where the TOML parser (toml++) finds the error the
 message starts with `invalid TOML:` and uses the parser's words.
 
-Not in the table (they have no line to name): a file larger than 1 MiB or a
-device such as `/dev/zero` (`FILE: error: scene file 'FILE' is larger than
-1048576 bytes ...`), a folder (`... it is a directory`) and a missing file
+Not in the table (they have no line to name): a file larger than 64 MiB (a
+10,000-link chain is about 5 MB) or a device such as `/dev/zero` (`FILE:
+error: scene file 'FILE' is larger than 67108864 bytes ...`), a folder (`... it is a directory`) and a missing file
 (`... cannot open scene file 'FILE': No such file or directory`); the same
 test file checks them.
 

@@ -177,7 +177,14 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
     j["redundant_rows"] = rows;
     j["reactions_determined"] = rr.indeterminate_joints.empty();
     j["reactions_indeterminate_joints"] = joints;
-    j["reactions_method"] = "multipliers of the independent rows (a particular solution; the rows set aside carry none)";
+    // multibody/minimum_norm_reactions.cpp: what the force and torque columns hold.
+    j["reactions_method"] =
+        rr.indeterminate_joints.empty()
+            ? "multipliers of the joints' rows (determined by the constraints)"
+            : fmt::format("minimum-norm split over the rows of the joints in the dependency (kept and set aside), "
+                          "torques weighed divided by L = {:.6g} m; determined joints: their multipliers; the lambda "
+                          "columns of steps.csv are the kept rows' multipliers (a particular solution)",
+                          rr.length_scale);
     if (!rr.mobility_warning.empty())
       j["warnings"].push_back({{"quantity", "mobility"}, {"message", rr.mobility_warning}});
     o.note += fmt::format("; mobility {} (rank), {} (Gruebler-Kutzbach)", rr.rank_dof, rr.gruebler_dof);

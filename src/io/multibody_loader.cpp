@@ -798,10 +798,23 @@ class MultibodyReader {
           for (std::size_t k = 0; k < names.size(); ++k) others += (k ? ", " : "") + names[k];
           const std::string between = fmt::format("between {} and {}", body_label(j.body_a), body_label(j.body_b));
           const toml::table& t = *joint_tables_[i];
+          // A repeat at another point is what engineers write on purpose (a
+          // shaft in two bearings, a door on two hinges): accepted as
+          // redundancy, its rows set aside at the start and its reactions split
+          // by minimum norm (multibody/minimum_norm_reactions.cpp). The same
+          // joint at the same point again is a slip of the pen: refused.
+          bool same_point = false;
+          for (std::size_t k : earlier)
+            same_point = same_point || (space_point(spec.joints[k]) - ref).norm() <= 1e-9 * std::max(1.0, ref.norm());
+          if (r_all == r_before && !same_point) {
+            earlier.push_back(i);
+            continue;
+          }
           if (r_all == r_before)
             r_.fail(t.source(),
                     fmt::format("joint \"{}\" repeats what {} {} already impose{} {}: it adds no condition of its "
-                                "own, so its reaction is not determined; remove it",
+                                "own at the same point, so it is the same joint twice; remove it (a second bearing "
+                                "on the same axis elsewhere is accepted as redundant)",
                                 j.name, names.size() > 1 ? "joints" : "joint", others,
                                 names.size() > 1 ? "" : "s", between));
           r_.fail(t.source(),

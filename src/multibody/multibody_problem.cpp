@@ -180,6 +180,7 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
     force_bodies_.v_offset.push_back(groups_[bodies_[i].v_group].offset);
   }
   sink_ = std::make_unique<JacobianSink>(groups_);
+  prepare_minimum_norm_reactions();
 
   start(scene);
 

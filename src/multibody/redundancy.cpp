@@ -266,9 +266,10 @@ void MultibodyProblem::find_redundant_rows(const Scene& scene, std::vector<std::
   const std::string src = dropped_row_source(0);
   warnings_.push_back(fmt::format(
       "{}{} of the {} constraint rows are redundant at the start (rank {}): set aside and monitored as drift: {}; "
-      "the reactions of joints {} are not determined by the constraints (statically indeterminate: reported as the "
-      "kept rows' particular solution)",
-      src.empty() ? "" : src + ": ", rep.dropped.size(), rep.rows, rep.rank, list, joints));
+      "the reactions of joints {} are not determined by the constraints (statically indeterminate: their force and "
+      "torque columns are the minimum-norm split over those joints' rows, torques divided by L = {:.6g} m; their "
+      "lambda columns are the kept rows' multipliers)",
+      src.empty() ? "" : src + ": ", rep.dropped.size(), rep.rows, rep.rank, list, joints, rep.length_scale));
 }
 
 int MultibodyProblem::full_rank(double t, const double* y) {

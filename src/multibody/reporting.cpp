@@ -47,12 +47,21 @@ Vec3 MultibodyProblem::body_velocity(int i, const double* y) const {
 }
 
 JointReaction MultibodyProblem::joint_reaction(int joint, const double* y) {
-  JointReaction out;
+  // A joint in a redundant loop's dependency: the minimum-norm split
+  // (minimum_norm_reactions.cpp); else its own multipliers.
+  if (minimum_norm_applies(joint)) return minimum_norm_reaction(joint, y);
   const int j = block_of_joint_[joint];
-  if (j < 0 || blocks_[j].lambda_group < 0) return out;
+  if (j < 0 || blocks_[j].lambda_group < 0) return {};
   if (y != evaluated_y_) evaluate(0.0, y, 2);
   const ConstraintBlock& blk = blocks_[j];
-  const double* lambda = y + groups_[blk.lambda_group].offset;
+  const ConstraintRow* rows[kMaxBlockRows];
+  for (int r = 0; r < blk.nr; ++r) rows[r] = &blk.rows[r];
+  return reaction_of_rows(joint, rows, y + groups_[blk.lambda_group].offset, blk.nr);
+}
+
+JointReaction MultibodyProblem::reaction_of_rows(int joint, const ConstraintRow* const* rows, const double* lambda,
+                                                 int count) {
+  JointReaction out;
   const JointSpec& js = spec_.joints[joint];
   VectorEval e[2];
   Vec3 pa = js.point_a, pb = js.point_b;
@@ -66,8 +75,8 @@ JointReaction MultibodyProblem::joint_reaction(int joint, const double* y) {
   }
   VectorEval ta, tb;
   // What each multiplier is, the row states (model/constraint_row.hpp).
-  for (int r = 0; r < blk.nr; ++r) {
-    const ConstraintRow& row = blk.rows[r];
+  for (int r = 0; r < count; ++r) {
+    const ConstraintRow& row = *rows[r];
     switch (row.reaction) {
       case RowReaction::Point:  // p_a . e_k - p_b . e_k
         out.force += lambda[r] * row.terms[0].b.s;

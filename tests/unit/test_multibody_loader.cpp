@@ -346,10 +346,17 @@ TEST_CASE("schema 2: joints naming missing bodies, zero axes and skew normals ar
 TEST_CASE("schema 2: joints on one pair of bodies that repeat or fight each other are refused") {
   const std::string hinge_z = "[[joints]]\nname = \"h1\"\ntype = \"revolute\"\nbodies = [\"arm\", \"hand\"]\n"
                               "point = [1.0, 2.0, 3.0]\naxis = [0.0, 0.0, 1.0]\n";  // lines 13..18
-  // The same hinge twice (also on the same axis further along: a door's two hinges).
+  // The same hinge twice at the same point: a copy, refused.
   CHECK_MB_ERROR(two_bodies(hinge_z + "[[joints]]\nname = \"h2\"\ntype = \"revolute\"\nbodies = [\"hand\", \"arm\"]\n"
-                                      "point = [1.0, 2.0, 4.0]\naxis = [0.0, 0.0, -2.0]\n"),
-                 19, "joint \"h2\" repeats what joint \"h1\" (line 13) already imposes between \"hand\" and \"arm\"");
+                                      "point = [1.0, 2.0, 3.0]\naxis = [0.0, 0.0, -2.0]\n"),
+                 19, "joint \"h2\" repeats what joint \"h1\" (line 13) already imposes between \"hand\" and \"arm\"",
+                 "the same joint twice");
+  // On the same axis further along (a door's two hinges, a shaft's two
+  // bearings): accepted as redundancy (test_minimum_norm_reactions.cpp runs one).
+  CHECK_NOTHROW(io::parse_scene(two_bodies(hinge_z + "[[joints]]\nname = \"h2\"\ntype = \"revolute\"\n"
+                                                     "bodies = [\"hand\", \"arm\"]\npoint = [1.0, 2.0, 4.0]\n"
+                                                     "axis = [0.0, 0.0, -2.0]\n"),
+                                "two_hinges.toml"));
   // Two hinges with different axes: no motion left, 4 conditions redundant.
   CHECK_MB_ERROR(two_bodies(hinge_z + "[[joints]]\nname = \"h2\"\ntype = \"revolute\"\nbodies = [\"arm\", \"hand\"]\n"
                                       "point = [1.0, 2.0, 3.0]\naxis = [1.0, 0.0, 0.0]\n"),

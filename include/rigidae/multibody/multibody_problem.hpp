@@ -53,6 +53,8 @@
 // Mobility: rank_dof = velocities - rank of the Force rows (6 per body in the
 // Euler form), beside Gruebler-Kutzbach 6 n - sum of the joints' rows; a
 // scene's expected_dof that differs from rank_dof is a warning.
+#include <Eigen/QR>
+
 #include <memory>
 #include <string>
 #include <vector>
@@ -171,6 +173,9 @@ class MultibodyProblem final : public DaeProblem {
   Vec3 body_omega_space(int i, const double* y) const;     // rad/s
   Vec3 body_position(int i, const double* y) const;        // m
   Vec3 body_velocity(int i, const double* y) const;        // m/s
+  // For a joint whose reaction the constraints do not determine (in
+  // redundancy().indeterminate_joints), the minimum-norm split over the
+  // dependency's rows (src/multibody/minimum_norm_reactions.cpp).
   JointReaction joint_reaction(int joint, const double* y);
   // |Phi| and |G v| of a joint's rows.
   std::pair<double, double> joint_residuals(int joint, const double* y);
@@ -252,6 +257,24 @@ class MultibodyProblem final : public DaeProblem {
   void assemble_linear_part(double t, const double* y, JacobianSink& sink, bool just_evaluated);
   void add_forces(const double* y, double* F);
   void add_force_jacobian(const double* y, JacobianSink& sink);
+  // A joint's reaction from multipliers of the given rows (what RowReaction
+  // says each is), bodies evaluated.
+  JointReaction reaction_of_rows(int joint, const ConstraintRow* const* rows, const double* lambda, int count);
+  // The minimum-norm reactions of the joints in a dependency
+  // (minimum_norm_reactions.cpp): built after the layout, solved once per state.
+  struct MinimumNormReactions {
+    std::vector<int> joints, bodies;              // S and the bodies its joints hold
+    std::vector<int> first_row;                   // per joint, into rows (-1: not in S)
+    std::vector<const ConstraintRow*> rows;       // S's rows: each joint's kept, then set aside
+    std::vector<int> kept_lambda_offset;          // in y, -1 for a row set aside
+    Eigen::MatrixXd A;                            // G_S^T W^-1 over (x', omega) per body
+    Eigen::VectorXd weight, lambda, f, memo_y;
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
+  };
+  void prepare_minimum_norm_reactions();
+  bool minimum_norm_applies(int joint) const;
+  void solve_minimum_norm_reactions(const double* y);
+  JointReaction minimum_norm_reaction(int joint, const double* y);
   // After an accepted step (bodies evaluated): the force elements and the
   // joint coordinates' branches follow the motion.
   void follow_force_elements();
@@ -315,6 +338,7 @@ class MultibodyProblem final : public DaeProblem {
   RedundancyReport redundancy_;
   std::vector<std::vector<int>> dropped_of_joint_;  // indices into redundancy_.dropped
   std::unique_ptr<BlockEval> dropped_eval_;
+  MinimumNormReactions minimum_norm_;
   std::vector<EventNote> events_;
   const double* evaluated_y_ = nullptr;  // output_row: the bodies are evaluated at this y
   // drift()'s last answer and the (t, y) it was for (y copied: the driver
