@@ -5,12 +5,22 @@
 // invariant, 10 tau N for a constraint).
 //
 // Measures (dimensionless, maxima over the accepted steps):
-//   energy               |H - H0| / E_s,  only when the scene conserves it:
-//                        no body load with a torque or in the body frame, no
-//                        spring damping, no torsional damping (gravity,
-//                        undamped springs, undamped torsional springs and
-//                        constant space-frame forces have a potential; ideal
-//                        joints do no work)
+//   energy               |H - H0 - W| / E_s,  when the scene's energy balance
+//                        is known: no spring damping, no torsional damping
+//                        (gravity, undamped springs, undamped torsional springs
+//                        and constant space-frame forces have a potential;
+//                        ideal joints do no work). W(t) is the work done by
+//                        the drivers and by the loads without a potential
+//                        (torques, body-frame and time-dependent loads): the
+//                        integral of their power P = sum_d tau_d theta_d' +
+//                        sum_loads Q . v, by the quadrature below.
+// The work's quadrature: at every accepted step, over [t_{n-1}, t_n], the
+// integral of the polynomial through the last min(n + 1, 6) values of P
+// (t_k, P_k) (Gauss-Legendre, 4 points: exact for its degree <= 5). Its
+// error per step is O(h^min(n+1, 6)) times P's derivative of that order: the
+// order of the integrator's own local error (BDF and Adams at order <= 5),
+// so it does not trip the check at the tolerances the check applies to;
+// a first-order sum would (sum P_n h_n errs by O(h) P' per step).
 //   constraint_position  max |Phi| / L    (the joints' and the bodies' own
 //                        position rows; point rows are in m, angular rows in
 //                        rad: dividing these by L too is conservative for L < 1 m)
@@ -41,6 +51,9 @@ double mechanism_size(const MultibodySpec& spec);
 
 // Whether a multibody scene conserves its energy (see above).
 bool multibody_conserves_energy(const MultibodySpec& spec);
+// Whether its energy balance H - H0 = W is checked: every force element is
+// conservative or reports its power (drivers always do).
+bool multibody_energy_balance_known(const MultibodySpec& spec);
 
 // A StepSink in front of the recorder (or of nothing, for a run that records
 // nothing): forwards everything and measures each accepted step.
@@ -64,6 +77,14 @@ class MultibodyInvariantMonitor final : public StepSink {
   const Scene& scene_;
   bool conservative_, started_ = false;
   double size_ = 1.0, mass_ = 0.0, h0_ = 0.0, e_scale_ = 1.0, v_scale_ = 1.0;
+  // The work W of the drivers and of the loads without a potential, and the
+  // last values of their power (t, P), oldest first, for its quadrature.
+  bool has_work_ = false;
+  double work_ = 0.0;
+  static constexpr int kPowerPoints = 6;
+  double power_t_[kPowerPoints] = {}, power_[kPowerPoints] = {};
+  int power_count_ = 0;
+  void add_power(double t, double P);
   InvariantDrifts d_;
   long steps_ = 0;
 };
