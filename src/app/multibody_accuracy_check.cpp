@@ -45,39 +45,6 @@ bool multibody_energy_balance_known(const MultibodySpec& spec) {
   return true;
 }
 
-// Appends (t, P) and adds the integral of the interpolating polynomial
-// through the kept points over the last interval to work_.
-void MultibodyInvariantMonitor::add_power(double t, double P) {
-  if (power_count_ == kPowerPoints) {
-    std::copy(power_t_ + 1, power_t_ + kPowerPoints, power_t_);
-    std::copy(power_ + 1, power_ + kPowerPoints, power_);
-    --power_count_;
-  }
-  power_t_[power_count_] = t;
-  power_[power_count_] = P;
-  ++power_count_;
-  if (power_count_ < 2) return;
-  const int n = power_count_;
-  const double a = power_t_[n - 2], b = power_t_[n - 1];
-  if (!(b > a)) return;
-  // Gauss-Legendre, 4 points on [-1, 1].
-  static constexpr double x[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
-  static constexpr double w[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
-  double integral = 0.0;
-  for (int g = 0; g < 4; ++g) {
-    const double tg = 0.5 * (a + b) + 0.5 * (b - a) * x[g];
-    double p = 0.0;
-    for (int i = 0; i < n; ++i) {
-      double l = 1.0;
-      for (int k = 0; k < n; ++k)
-        if (k != i) l *= (tg - power_t_[k]) / (power_t_[i] - power_t_[k]);
-      p += l * power_[i];
-    }
-    integral += w[g] * p;
-  }
-  work_ += 0.5 * (b - a) * integral;
-}
-
 MultibodyInvariantMonitor::MultibodyInvariantMonitor(multibody::MultibodyProblem& problem, const Scene& scene,
                                                      StepSink* next)
     : problem_(problem), next_(next), scene_(scene) {
@@ -95,7 +62,7 @@ void MultibodyInvariantMonitor::on_output(double t, const Eigen::VectorXd& y) {
     started_ = true;
     const double T0 = problem_.kinetic_energy(y.data());
     h0_ = T0 + problem_.potential_energy(y.data());
-    if (has_work_) add_power(t, problem_.work_rate(t, y.data()));
+    if (has_work_) work_.add(t, problem_.work_rate(t, y.data()));
     // The springs' energy at the start can turn into motion as well (a wound
     // torsion spring released from rest has T0 = 0).
     e_scale_ = T0 + problem_.elastic_energy(y.data()) + scene_.multibody->gravity_W.norm() * size_ * mass_;
@@ -114,8 +81,8 @@ void MultibodyInvariantMonitor::on_step(double t, double h, int order, const Eig
   d_.constraint_velocity = std::max(d_.constraint_velocity, velocity / v_scale_);
   if (conservative_) {
     const double H = problem_.kinetic_energy(y.data()) + problem_.potential_energy(y.data());
-    if (has_work_) add_power(t, problem_.work_rate(t, y.data()));
-    d_.energy = std::max(d_.energy, std::abs(H - h0_ - work_) / e_scale_);
+    if (has_work_) work_.add(t, problem_.work_rate(t, y.data()));
+    d_.energy = std::max(d_.energy, std::abs(H - h0_ - work_.value()) / e_scale_);
   }
 }
 

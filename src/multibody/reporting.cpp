@@ -433,6 +433,13 @@ double MultibodyProblem::driving_effort(int driver, const double* y) {
   return multibody::driving_effort(drivers_[driver], driver_scratch_, y[groups_[blk.lambda_group].offset]);
 }
 
+bool MultibodyProblem::has_work() const {
+  if (!drivers_.empty()) return true;
+  for (const auto& f : forces_)
+    if (!f->conservative() && f->has_power()) return true;
+  return false;
+}
+
 double MultibodyProblem::work_rate(double t, const double* y) {
   evaluate(t, y, 2);
   double power = 0.0;

@@ -14,13 +14,8 @@
 //                        (torques, body-frame and time-dependent loads): the
 //                        integral of their power P = sum_d tau_d theta_d' +
 //                        sum_loads Q . v, by the quadrature below.
-// The work's quadrature: at every accepted step, over [t_{n-1}, t_n], the
-// integral of the polynomial through the last min(n + 1, 6) values of P
-// (t_k, P_k) (Gauss-Legendre, 4 points: exact for its degree <= 5). Its
-// error per step is O(h^min(n+1, 6)) times P's derivative of that order: the
-// order of the integrator's own local error (BDF and Adams at order <= 5),
-// so it does not trip the check at the tolerances the check applies to;
-// a first-order sum would (sum P_n h_n errs by O(h) P' per step).
+// The work's quadrature: multibody/work_integral.hpp (the polynomial through
+// the last six values of P at the accepted steps).
 //   constraint_position  max |Phi| / L    (the joints' and the bodies' own
 //                        position rows; point rows are in m, angular rows in
 //                        rad: dividing these by L too is conservative for L < 1 m)
@@ -41,6 +36,7 @@
 #include "rigidae/app/accuracy_check.hpp"
 #include "rigidae/model/scene.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/multibody/work_integral.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 
 namespace rigidae {
@@ -80,11 +76,7 @@ class MultibodyInvariantMonitor final : public StepSink {
   // The work W of the drivers and of the loads without a potential, and the
   // last values of their power (t, P), oldest first, for its quadrature.
   bool has_work_ = false;
-  double work_ = 0.0;
-  static constexpr int kPowerPoints = 6;
-  double power_t_[kPowerPoints] = {}, power_[kPowerPoints] = {};
-  int power_count_ = 0;
-  void add_power(double t, double P);
+  multibody::WorkIntegral work_;
   InvariantDrifts d_;
   long steps_ = 0;
 };

@@ -226,6 +226,9 @@ class MultibodyProblem final : public DaeProblem {
   // that report it (ForceElement::power) at (t, y), W: dW/dt of the energy
   // check's work.
   double work_rate(double t, const double* y);
+  // Whether anything does work that work_rate counts (drivers, or force
+  // elements without a potential that report their power).
+  bool has_work() const;
   // Position- and velocity-level drift over all blocks (max norms).
   std::pair<double, double> drift(double t, const double* y);
   // Projects y onto Phi = 0 (Gauss-Newton, least change in the mass metric)
