@@ -183,9 +183,11 @@ TEST_CASE("crank-slider driven: every Euler-form combination and the ODE form" *
       CHECK(e.angle <= 1e-6);
       CHECK(e.position <= 1e-6);
       // Linear coordinates (the nine entries of R) with the acceleration-level
-      // schemes reach 2.05e-6 at rtol 1e-10 (and 1.1e-5 at 1e-11: not a
-      // tolerance effect; open, see the report of the drivers branch): their
-      // measured bound is asserted, every other combination's is 1e-6.
+      // schemes reach 2.05e-6 at rtol 1e-10: isolated points where the
+      // multiplier, which IDA leaves out of its error test, is off (at rtol
+      // 1e-11 one grid point is 9.7e-6 off, its neighbours 1e-10; the
+      // accepted steps' values too: 1.2e-6 and 4.8e-6; open). Their measured
+      // bound is asserted, every other combination's is 1e-6.
       const bool linear_acceleration_level = coords == "linear" && (scheme == "index1" || scheme == "projection");
       CHECK(e.torque <= (linear_acceleration_level ? 3e-6 : 1e-6));
     }
