@@ -164,7 +164,7 @@ TEST_CASE("crank-slider driven: quaternion/euler/index1 against the closed form"
   CHECK(o.extremes.max_abs_energy_error < 1e-8);
 }
 
-TEST_CASE("crank-slider driven: every Euler-form combination and the ODE form" * doctest::test_suite("slow")) {
+TEST_CASE("crank-slider driven: every Euler-form combination and the ODE form") {
   const Scene base = driven_scene();
   for (const Coordinates& c : all_coordinates())
     for (const std::string& scheme : scheme_names()) {

@@ -140,7 +140,7 @@ TEST_CASE("drivers: exact iteration matrix = differences, a driver on every join
   MESSAGE("largest row-relative difference: " << worst);
 }
 
-TEST_CASE("drivers: exact iteration matrix = differences, every representation and form" * doctest::test_suite("slow")) {
+TEST_CASE("drivers: exact iteration matrix = differences, every representation and form") {
   double worst = 0.0;
   for (const JointType* jt : {&joint_type("revolute"), &joint_type("cylindrical")})
     for (int k = 0; k < static_cast<int>(jt->coordinates.size()); ++k)
