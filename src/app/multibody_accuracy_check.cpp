@@ -39,12 +39,19 @@ bool multibody_conserves_energy(const MultibodySpec& spec) {
   return true;
 }
 
+bool multibody_energy_balance_known(const MultibodySpec& spec) {
+  for (const auto& f : multibody::make_force_elements(spec))
+    if (!f->conservative() && !f->has_power()) return false;
+  return true;
+}
+
 MultibodyInvariantMonitor::MultibodyInvariantMonitor(multibody::MultibodyProblem& problem, const Scene& scene,
                                                      StepSink* next)
     : problem_(problem), next_(next), scene_(scene) {
   d_ = {kNaN, kNaN, kNaN, 0.0, 0.0, kNaN};
   const MultibodySpec& spec = *scene.multibody;
-  conservative_ = multibody_conserves_energy(spec);
+  conservative_ = multibody_energy_balance_known(spec);
+  has_work_ = !multibody_conserves_energy(spec) || !spec.drivers.empty();
   if (conservative_) d_.energy = 0.0;
   size_ = mechanism_size(spec);
   for (const BodySpec& b : spec.bodies) mass_ += b.mass;
@@ -55,6 +62,7 @@ void MultibodyInvariantMonitor::on_output(double t, const Eigen::VectorXd& y) {
     started_ = true;
     const double T0 = problem_.kinetic_energy(y.data());
     h0_ = T0 + problem_.potential_energy(y.data());
+    if (has_work_) work_.add(t, problem_.work_rate(t, y.data()));
     // The springs' energy at the start can turn into motion as well (a wound
     // torsion spring released from rest has T0 = 0).
     e_scale_ = T0 + problem_.elastic_energy(y.data()) + scene_.multibody->gravity_W.norm() * size_ * mass_;
@@ -73,13 +81,16 @@ void MultibodyInvariantMonitor::on_step(double t, double h, int order, const Eig
   d_.constraint_velocity = std::max(d_.constraint_velocity, velocity / v_scale_);
   if (conservative_) {
     const double H = problem_.kinetic_energy(y.data()) + problem_.potential_energy(y.data());
-    d_.energy = std::max(d_.energy, std::abs(H - h0_) / e_scale_);
+    if (has_work_) work_.add(t, problem_.work_rate(t, y.data()));
+    d_.energy = std::max(d_.energy, std::abs(H - h0_ - work_.value()) / e_scale_);
   }
 }
 
 std::vector<AccuracyWarning> MultibodyInvariantMonitor::warnings() const {
   return drift_warnings(d_, steps_,
-                        {"|H - H0| relative to the kinetic energy plus m |g| L over the mechanism's size L", "", "",
+                        {"|H - H0 - W| relative to the kinetic energy plus m |g| L over the mechanism's size L "
+                         "(W: the work of drivers and loads)",
+                         "", "",
                          "max |Phi| over the joints relative to the mechanism's size",
                          "max |G v| over the joints relative to the largest speed"});
 }

@@ -173,6 +173,7 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
                      {"rows", rr.rows},
                      {"velocities", rr.velocities},
                      {"expected_dof", expected ? nlohmann::json(*expected) : nlohmann::json(nullptr)},
+                     {"drivers", scene.multibody->drivers.size()},
                      {"singular_start", rr.singular_start}};
     j["redundant_rows"] = rows;
     j["reactions_determined"] = rr.indeterminate_joints.empty();
@@ -188,6 +189,9 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
     if (!rr.mobility_warning.empty())
       j["warnings"].push_back({{"quantity", "mobility"}, {"message", rr.mobility_warning}});
     o.note += fmt::format("; mobility {} (rank), {} (Gruebler-Kutzbach)", rr.rank_dof, rr.gruebler_dof);
+    if (!scene.multibody->drivers.empty())
+      o.note += fmt::format(", {} driver{} counted as constraints", scene.multibody->drivers.size(),
+                            scene.multibody->drivers.size() == 1 ? "" : "s");
     if (!rr.dropped.empty()) o.note += fmt::format(", {} redundant rows set aside", rr.dropped.size());
     j["note"] = o.note;
   }

@@ -37,6 +37,7 @@
 #include "rigidae/model/scene.hpp"
 #include "rigidae/settings/settings.hpp"
 #include "scene_sections.hpp"
+#include "time_function_reader.hpp"
 #include "toml_reader.hpp"
 
 namespace rigidae::io::detail {
@@ -46,10 +47,10 @@ namespace {
 // The schema
 // ---------------------------------------------------------------------------
 
-constexpr std::array<std::string_view, 16> kRootKeys{
+constexpr std::array<std::string_view, 17> kRootKeys{
     "schema_version", "name",    "description", "start_tolerance", "reference",   "bodies",  "joints",
     "springs",        "loads",   "gravity",     "time",            "output",      "formulation", "solver",
-    "expected_dof",   "mechanism"};
+    "expected_dof",   "mechanism", "drivers"};
 constexpr std::array<std::string_view, 3> kMechanismKeys{"expected_dof", "assemble", "hold"};
 constexpr std::array<std::string_view, 15> kBodyKeys{
     "name",     "mass",  "inertia_principal", "inertia",    "inertia_axes", "position",         "quaternion",
@@ -74,12 +75,13 @@ const std::vector<std::string_view>& joint_keys() {
 }
 constexpr std::array<std::string_view, 8> kSpringKeys{"name",    "bodies",    "frame",   "point_a",
                                                       "point_b", "stiffness", "damping", "rest_length"};
-constexpr std::array<std::string_view, 4> kLoadKeys{"body", "force", "torque", "frame"};
+constexpr std::array<std::string_view, 5> kLoadKeys{"body", "force", "torque", "frame", "profile"};
+constexpr std::array<std::string_view, 3> kDriverKeys{"joint", "coordinate", "motion"};
 // [output]'s keys of schema 2 only: which bodies and joints have columns.
 constexpr std::array<std::string_view, 2> kOutputPartKeys{"bodies", "joints"};
 
 // Schema 2's own tables; the shared ones are added from scene_loader.cpp.
-std::array<SectionKeys, 9> own_sections() {
+std::array<SectionKeys, 10> own_sections() {
   return {{
     {"", kRootKeys},
     {"mechanism", kMechanismKeys},
@@ -90,12 +92,13 @@ std::array<SectionKeys, 9> own_sections() {
     {"joints", joint_keys()},
     {"springs", kSpringKeys},
     {"loads", kLoadKeys},
+    {"drivers", kDriverKeys},
   }};
 }
 
 const std::vector<SectionKeys>& sections() {
   static const std::vector<SectionKeys> all = [] {
-    const std::array<SectionKeys, 9> own = own_sections();
+    const std::array<SectionKeys, 10> own = own_sections();
     std::vector<SectionKeys> v(own.begin(), own.end());
     const auto shared = shared_sections();
     v.insert(v.end(), shared.begin(), shared.end());
@@ -273,6 +276,7 @@ class MultibodyReader {
     check_welds(spec);
     read_springs(spec);
     read_loads(spec);
+    read_drivers(spec);
 
     read_time(r_, root_, scene);
     read_output(r_, root_, scene, kOutputPartKeys);
@@ -925,7 +929,65 @@ class MultibodyReader {
       if (f) l.force = bounded_vec3(r_, *f, key("force"), kMaxForce, "N");
       if (m) l.torque = bounded_vec3(r_, *m, key("torque"), kMaxForce, "N m");
       if (const toml::node* fr = t.get("frame")) l.body_frame = r_.choice(*fr, key("frame"), kFrames) == 1;
+      if (const toml::node* pr = t.get("profile"))
+        l.profile = read_time_function(r_, *pr, key("profile"),
+                                       "the factor (dimensionless) that scales 'force' and 'torque' at time t", false);
       spec.loads.push_back(l);
+    }
+  }
+
+  // [[drivers]]: joint = "NAME", coordinate = "angle" (optional when the
+  // joint's type has one coordinate), motion = { type = ..., ... }.
+  void read_drivers(MultibodySpec& spec) {
+    const auto list = tables("drivers", false, "driver");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const toml::table& t = *list[i];
+      const std::string prefix = item("drivers", i);
+      const auto key = [&](std::string_view k) { return join_key(prefix, k); };
+      r_.check_keys(t, "drivers", kDriverKeys, sections());
+      DriverSpec d;
+      d.where = where(t);
+      const toml::node& jn = r_.required(t, "drivers", "joint", "the name of the joint whose coordinate it prescribes");
+      const std::string jname = r_.string(jn, key("joint"));
+      int joint = -1;
+      std::vector<std::string_view> driveable;
+      for (std::size_t j = 0; j < spec.joints.size(); ++j) {
+        if (spec.joints[j].name == jname) joint = static_cast<int>(j);
+        if (!spec.joints[j].type->coordinates.empty()) driveable.push_back(spec.joints[j].name);
+      }
+      if (joint < 0) {
+        std::string msg = fmt::format("'{}' = \"{}\" is not a joint of this scene", key("joint"), printable(jname));
+        if (auto best = closest(jname, driveable)) msg += fmt::format("; did you mean \"{}\"?", *best);
+        msg += driveable.empty() ? std::string(" (no joint here has a coordinate to drive)")
+                                 : fmt::format(" (joints with coordinates: {})", quoted_list(driveable));
+        r_.fail(jn, msg);
+      }
+      const JointSpec& js = spec.joints[static_cast<std::size_t>(joint)];
+      const auto coords = js.type->coordinates;
+      if (coords.empty())
+        r_.fail(jn, fmt::format("joint \"{}\" is a {} joint, which has no coordinate to drive (drivable types: "
+                                "revolute, prismatic, cylindrical, universal)",
+                                printable(jname), js.type->name));
+      std::vector<std::string_view> names;
+      for (const JointCoordinate& c : coords) names.push_back(c.name);
+      if (const toml::node* cn = t.get("coordinate")) {
+        d.coordinate = static_cast<int>(r_.choice(*cn, key("coordinate"), names));
+      } else if (coords.size() > 1) {
+        r_.fail(t.source(), fmt::format("{} drives joint \"{}\", a {} joint with {} coordinates: say which with "
+                                        "'coordinate' (valid: {})",
+                                        prefix, printable(jname), js.type->name, coords.size(), quoted_list(names)));
+      }
+      for (const DriverSpec& other : spec.drivers)
+        if (other.joint == joint && other.coordinate == d.coordinate)
+          r_.fail(jn, fmt::format("joint \"{}\"'s {} is driven twice (also at line {}): one driver per coordinate",
+                                  printable(jname), names[static_cast<std::size_t>(d.coordinate)], other.where.line));
+      d.joint = joint;
+      const bool angle = coords[static_cast<std::size_t>(d.coordinate)].kind == CoordinateKind::Angle;
+      const toml::node& mn = r_.required(t, "drivers", "motion",
+                                         "the coordinate as a function of time, e.g. { type = \"rate\", rate = 6.283 }");
+      d.motion = read_time_function(r_, mn, key("motion"),
+                                    angle ? "the joint angle, rad" : "the joint displacement, m", true);
+      spec.drivers.push_back(std::move(d));
     }
   }
 

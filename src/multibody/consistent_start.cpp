@@ -1,12 +1,13 @@
 // Consistent starts and projections of the multibody DAE (see
 // multibody_problem.hpp): the joint misses, Gauss-Newton onto Phi = 0 with
-// the least change in the mass metric, velocities onto G v = 0, the rank of
+// the least change in the mass metric, velocities onto G v = 0 (G v + Phi_t
+// = 0 with drivers: their rows depend on time), the rank of
 // G, and (v', lambda, mu, q') from the saddle-point system.
 //
 // With M the block-diagonal mass matrix (m I and the rotation block's M per
 // body) and G the Force blocks' rows over all velocities:
 //   position step:  [M G^T; G 0] (dv, nu) = (0, -Phi),      q += N(q) dv
-//   velocities:     [M G^T; G 0] (dv, nu) = (0, -G v),      v += dv
+//   velocities:     [M G^T; G 0] (dv, nu) = (0, -G v - Phi_t), v += dv
 //   accelerations:  [M G^T; G 0] (v', lambda) = (f, target)
 // (the least change in the mass metric, and the constrained accelerations),
 // solved as one sparse saddle-point system: M may be singular.
@@ -158,8 +159,14 @@ void MultibodyProblem::project(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp
       v.segment(velocity_offset_[i], groups_[bodies_[i].v_group].size) =
           y.segment(groups_[bodies_[i].v_group].offset, groups_[bodies_[i].v_group].size);
     Eigen::VectorXd dv, nu;
+    // G v + Phi_t = 0: the blocks' velocity levels (a driver's carries Phi_t).
+    Eigen::VectorXd rate(G.rows());
+    int row = 0;
+    for (int j = 0; j < static_cast<int>(blocks_.size()); ++j)
+      if (blocks_[j].kind == ConstraintKind::Force)
+        for (int r = 0; r < blocks_[j].nr; ++r) rate(row++) = block_eval_[j].Gv(r);
     solve_saddle(mass_matrix(bodies_, velocity_offset_, rot_mass, nv_total_), G,
-                 Eigen::VectorXd::Zero(nv_total_), -(G * v), dv, nu);
+                 Eigen::VectorXd::Zero(nv_total_), -rate, dv, nu);
     v += dv;
     for (std::size_t i = 0; i < bodies_.size(); ++i)
       y.segment(groups_[bodies_[i].v_group].offset, groups_[bodies_[i].v_group].size) =
@@ -267,7 +274,8 @@ void MultibodyProblem::start(const Scene& scene) {
   // joint ..." when row_label put the joint's position in front.
   const auto row_error = [&](int block, int row) {
     std::string label = row_label(block, row);
-    const std::size_t joint = label.find("joint '");
+    std::size_t joint = label.find("driver of joint '");
+    if (joint == std::string::npos) joint = label.find("joint '");
     if (joint != std::string::npos && joint > 0) label.insert(joint, "error: ");
     return label;
   };
@@ -280,6 +288,12 @@ void MultibodyProblem::start(const Scene& scene) {
     if (blocks_[j].internal) continue;
     for (int r = 0; r < blocks_[j].nr; ++r) {
       const double miss = std::abs(block_eval_[j].phi(r));
+      if (miss > spec_.start_tolerance && blocks_[j].driver >= 0)
+        throw InputError(fmt::format("{}: the initial poses miss the prescribed motion by {:.3g} (more than "
+                                     "start_tolerance {:g}): at t = {:g} the driver prescribes {:.6g}; place the "
+                                     "bodies at that pose, or start the motion where they are",
+                                     row_error(j, r), miss, spec_.start_tolerance, t0,
+                                     spec_.drivers[blocks_[j].driver].motion.value(t0)));
       if (miss > spec_.start_tolerance)
         throw InputError(fmt::format("{}: the initial poses miss the joint by {:.3g} (more than start_tolerance "
                                      "{:g}); place the bodies so that the joint holds, or raise start_tolerance",
@@ -321,7 +335,7 @@ void MultibodyProblem::start(const Scene& scene) {
   if (dv > 1e-10) {
     const SourcePosition& w = spec_.bodies[moved].where;
     warnings_.push_back(fmt::format("{}body '{}': the initial velocities violated the joints; projected onto "
-                                    "G v = 0 in the mass metric (largest change {:.3g}, on this body)",
+                                    "G v + Phi_t = 0 in the mass metric (largest change {:.3g}, on this body)",
                                     w.file.empty() ? "" : fmt::format("{}:{}:{}: ", w.file, w.line, w.column),
                                     bodies_[moved].name, dv));
   }

@@ -93,6 +93,17 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
     rows_of_joint.emplace_back();
     js.type->rows(js, rows_of_joint.back());
   }
+  drivers_of_joint_.assign(spec_.joints.size(), {});
+  for (int d = 0; d < static_cast<int>(spec_.drivers.size()); ++d) {
+    const DriverSpec& ds = spec_.drivers[d];
+    const JointSpec& js = spec_.joints[ds.joint];
+    DriverRow row;
+    row.coordinate = &js.type->coordinates[ds.coordinate];
+    row.coordinate->rows(js, row.rows);
+    row.motion = &spec_.drivers[d].motion;
+    drivers_.push_back(row);
+    drivers_of_joint_[ds.joint].push_back(d);
+  }
   find_redundant_rows(scene, rows_of_joint);
   if (spec_.expected_dof && *spec_.expected_dof != redundancy_.rank_dof) {
     const SourcePosition& w = spec_.expected_dof_where;
@@ -147,12 +158,27 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
     has_force_blocks_ = true;
     add_groups(blk);
   }
+  // Drivers: one rheonomic Force row each, after the joints.
+  block_of_driver_.assign(spec_.drivers.size(), -1);
+  for (int d = 0; d < static_cast<int>(spec_.drivers.size()); ++d) {
+    const JointSpec& js = spec_.joints[spec_.drivers[d].joint];
+    ConstraintBlock blk;
+    blk.joint = spec_.drivers[d].joint;
+    blk.driver = d;
+    blk.kind = ConstraintKind::Force;
+    blk.nr = 1;
+    blk.row_names.push_back("drive_" + std::string(drivers_[d].coordinate->name));
+    blk.body_of_side[0] = js.body_a;
+    blk.body_of_side[1] = js.body_b;
+    block_of_driver_[d] = static_cast<int>(blocks_.size());
+    add_groups(blk);
+  }
   for (const ConstraintBlock& b : blocks_)
     if (b.kind == ConstraintKind::Force) has_force_blocks_ = true;
   // Per joint its block, looked up per output row (a search would make rows O(joints^2)).
   block_of_joint_.assign(spec_.joints.size(), -1);
   for (int k = 0; k < static_cast<int>(blocks_.size()); ++k)
-    if (!blocks_[k].internal) block_of_joint_[blocks_[k].joint] = k;
+    if (!blocks_[k].internal && blocks_[k].driver < 0) block_of_joint_[blocks_[k].joint] = k;
   n_ = offset;
   drift_memo_y_.resize(n_);
 
@@ -193,6 +219,8 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
 }
 
 void MultibodyProblem::evaluate(double t, const double* y, int order) {
+  evaluated_t_ = t;
+  force_bodies_.t = t;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const BodyModel& b = bodies_[i];
     BodyWork& w = work_[i];
@@ -214,7 +242,10 @@ void MultibodyProblem::evaluate_block(int j, const double* /*y*/, const double* 
       sides.body[x] = blk.body_of_side[x];
       sides.state[x] = blk.body_of_side[x] == kGround ? nullptr : &work_[blk.body_of_side[x]].st;
     }
-    evaluate_rows(blk.rows.data(), blk.nr, sides, e);
+    if (blk.driver >= 0)
+      evaluate_driver(drivers_[blk.driver], evaluated_t_, sides, driver_scratch_, e);
+    else
+      evaluate_rows(blk.rows.data(), blk.nr, sides, e);
     return;
   }
   const BodyWork& w = work_[blk.body];
@@ -249,7 +280,10 @@ void MultibodyProblem::differentiate_block(int j, const double* y, const double*
       sides.state[x] = b == kGround ? nullptr : &work_[b].st;
       if (b != kGround) acc[x] = yp + groups_[bodies_[b].v_group].offset;
     }
-    differentiate_rows(blk.rows.data(), blk.nr, sides, acc, lambda, mu, e);
+    if (blk.driver >= 0)
+      differentiate_driver(drivers_[blk.driver], evaluated_t_, sides, acc, lambda, mu, driver_scratch_, e);
+    else
+      differentiate_rows(blk.rows.data(), blk.nr, sides, acc, lambda, mu, e);
     return;
   }
   const BodyWork& w = work_[blk.body];
@@ -462,6 +496,11 @@ std::string MultibodyProblem::row_label(int block, int row) const {
   if (b.internal) return "body '" + bodies_[b.body].name + "' constraint '" + b.row_names[row] + "'";
   const JointSpec& j = spec_.joints[b.joint];
   std::string where;
+  if (b.driver >= 0) {
+    const SourcePosition& w = spec_.drivers[b.driver].where;
+    if (!w.file.empty() || w.line > 0) where = fmt::format("{}:{}:{}: ", w.file, w.line, w.column);
+    return where + "driver of joint '" + j.name + "' (" + std::string(j.type->name) + ") row '" + b.row_names[row] + "'";
+  }
   if (!j.where.file.empty() || j.where.line > 0)
     where = j.where.file + ":" + std::to_string(j.where.line) + ":" + std::to_string(j.where.column) + ": ";
   return where + "joint '" + j.name + "' (" + std::string(j.type->name) + ") row '" + b.row_names[row] + "'";

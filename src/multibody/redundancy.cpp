@@ -72,10 +72,13 @@ Rank spqr_rank(const SparseL& Gt, double threshold, bool fixed = false) {
 
 }  // namespace
 
-// One Force row: a body's internal row (body >= 0, joint < 0) or a joint's.
+// One Force row: a body's internal row (body >= 0, joint < 0), a joint's, or
+// a driver's (driver >= 0, joint its joint, row null).
 struct ForceRowRef {
   int body = -1, joint = -1, index = 0;
   const ConstraintRow* row = nullptr;
+  int driver = -1;
+  const DriverRow* drive = nullptr;
 };
 
 namespace {
@@ -84,8 +87,10 @@ namespace {
 SparseL scaled_transpose(const std::vector<ForceRowRef>& rows, const std::vector<BodyModel>& bodies,
                          const std::vector<int>& velocity_offset, int nv_total,
                          const std::function<const BodyState*(int)>& state,
-                         const std::function<const MatCV*(int)>& internal_G, double L, BlockEval& e) {
+                         const std::function<const MatCV*(int)>& internal_G, double L, BlockEval& e,
+                         double t) {
   std::vector<Triplet> trip;
+  BlockEval scratch;
   for (int c = 0; c < static_cast<int>(rows.size()); ++c) {
     const ForceRowRef& f = rows[c];
     if (f.joint < 0) {
@@ -99,16 +104,26 @@ SparseL scaled_transpose(const std::vector<ForceRowRef>& rows, const std::vector
     // The row's bodies: those its vectors live on.
     int side_body[2] = {kGround, kGround};
     int n = 0;
-    for (int t = 0; t < f.row->n_terms; ++t)
-      for (const BodyVector* v : {&f.row->terms[t].a, &f.row->terms[t].b})
-        if (v->body != kGround && v->body != side_body[0] && v->body != side_body[1] && n < 2)
-          side_body[n++] = v->body;
+    const ConstraintRow* own = f.drive ? f.drive->rows : f.row;
+    const int own_rows = f.drive ? f.drive->row_count() : 1;
+    for (int r = 0; r < own_rows; ++r)
+      for (int k = 0; k < own[r].n_terms; ++k)
+        for (const BodyVector* v : {&own[r].terms[k].a, &own[r].terms[k].b})
+          if (v->body != kGround && v->body != side_body[0] && v->body != side_body[1] && n < 2)
+            side_body[n++] = v->body;
     for (int x = 0; x < 2; ++x) {
       sides.body[x] = side_body[x];
       sides.state[x] = side_body[x] == kGround ? nullptr : state(side_body[x]);
     }
-    evaluate_rows(f.row, 1, sides, e);
-    const double s = is_point_row(*f.row) ? 1.0 / L : 1.0;
+    double s = 1.0;
+    if (f.drive) {
+      // A driven length is in metres; an angle's row is r sin(theta - f).
+      evaluate_driver(*f.drive, t, sides, scratch, e);
+      if (f.drive->coordinate->kind == CoordinateKind::Length) s = 1.0 / L;
+    } else {
+      evaluate_rows(f.row, 1, sides, e);
+      s = is_point_row(*f.row) ? 1.0 / L : 1.0;
+    }
     for (int x = 0; x < 2; ++x) {
       if (side_body[x] == kGround) continue;
       for (int k = 0; k < e.G[x].cols(); ++k)
@@ -169,6 +184,10 @@ void MultibodyProblem::find_redundant_rows(const Scene& scene, std::vector<std::
   }
   rep.length_scale = L > 0.0 ? L : 1.0;
   std::vector<ForceRowRef> refs = internal_force_rows(bodies_);
+  // Drivers before the joints: when rows depend on each other, the joints'
+  // are set aside first (a driver fixes the motion; it is never redundant).
+  for (int d = 0; d < static_cast<int>(drivers_.size()); ++d)
+    refs.push_back({-1, spec_.drivers[d].joint, 0, nullptr, d, &drivers_[d]});
   for (int j = 0; j < static_cast<int>(rows.size()); ++j) {
     rep.joint_rows += static_cast<int>(rows[j].size());
     for (int r = 0; r < static_cast<int>(rows[j].size()); ++r) refs.push_back({-1, j, r, &rows[j][r]});
@@ -178,6 +197,7 @@ void MultibodyProblem::find_redundant_rows(const Scene& scene, std::vector<std::
   // (model/joint_type.hpp), the rows it has before any are set aside.
   rep.gruebler_dof = 6 * static_cast<int>(bodies_.size());
   for (const JointSpec& js : spec_.joints) rep.gruebler_dof -= 6 - js.type->freedoms.total();
+  rep.gruebler_dof -= static_cast<int>(spec_.drivers.size());
   rep.rank_dof = nv_total_;
   if (refs.empty()) return;
 
@@ -186,14 +206,14 @@ void MultibodyProblem::find_redundant_rows(const Scene& scene, std::vector<std::
   evaluate(scene.time.start, y.data(), 2);
   const SparseL Gt = scaled_transpose(
       refs, bodies_, velocity_offset_, nv_total_, [&](int b) { return &work_[b].st; },
-      [&](int b) { return &work_[b].terms.G; }, rep.length_scale, *dropped_eval_);
+      [&](int b) { return &work_[b].terms.G; }, rep.length_scale, *dropped_eval_, scene.time.start);
   const Rank first = spqr_rank(Gt, -1.0);
   rep.threshold = kRankRelTol * std::max(first.rmax, 1e-300);
   Rank rk = spqr_rank(Gt, rep.threshold);
   // The bodies' own rows come first: when the fill-reducing order sets one of
   // them aside, factor again in the given order, which sets aside joint rows.
   for (int k = rk.rank; k < static_cast<int>(rk.perm.size()); ++k)
-    if (refs[rk.perm[k]].joint < 0) {
+    if (refs[rk.perm[k]].joint < 0 || refs[rk.perm[k]].driver >= 0) {
       rk = spqr_rank(Gt, rep.threshold, true);
       break;
     }
@@ -209,6 +229,15 @@ void MultibodyProblem::find_redundant_rows(const Scene& scene, std::vector<std::
       throw InputError(fmt::format("body '{}': its own constraint row {} depends on the joints' rows at the start; "
                                    "use coordinates without internal constraints (e.g. euler equations) for it",
                                    bodies_[refs[c].body].name, refs[c].index));
+  for (int c : aside)
+    if (refs[c].driver >= 0) {
+      const DriverSpec& d = spec_.drivers[refs[c].driver];
+      const JointSpec& js = spec_.joints[d.joint];
+      throw InputError(fmt::format(
+          "{}:{}:{}: error: the driver of joint '{}' ({}) prescribes a motion that the other constraints fix "
+          "already (its row depends on theirs at the start): drive a coordinate that is free, or remove a driver",
+          d.where.file, d.where.line, d.where.column, js.name, drivers_[refs[c].driver].coordinate->name));
+    }
   // Indeterminate reactions: G_I^T alpha = g_d over the kept columns.
   std::vector<char> is_aside(refs.size(), 0);
   for (int c : aside) is_aside[c] = 1;
@@ -237,7 +266,8 @@ void MultibodyProblem::find_redundant_rows(const Scene& scene, std::vector<std::
       for (int d = 0; d < alpha.cols(); ++d) {
         indeterminate.insert(refs[aside[d]].joint);
         for (int k = 0; k < alpha.rows(); ++k)
-          if (std::abs(alpha(k, d)) > 1e-8 && refs[kept[k]].joint >= 0) indeterminate.insert(refs[kept[k]].joint);
+          if (std::abs(alpha(k, d)) > 1e-8 && refs[kept[k]].joint >= 0 && refs[kept[k]].driver < 0)
+            indeterminate.insert(refs[kept[k]].joint);
       }
     } else {
       for (int c : aside) indeterminate.insert(refs[c].joint);
@@ -276,12 +306,14 @@ int MultibodyProblem::full_rank(double t, const double* y) {
   evaluate(t, y, 2);
   std::vector<ForceRowRef> refs = internal_force_rows(bodies_);
   for (const ConstraintBlock& b : blocks_)
-    if (!b.internal)
+    if (b.driver >= 0)
+      refs.push_back({-1, b.joint, 0, nullptr, b.driver, &drivers_[b.driver]});
+    else if (!b.internal)
       for (int r = 0; r < b.nr; ++r) refs.push_back({-1, b.joint, r, &b.rows[r]});
   for (const RedundantRow& d : redundancy_.dropped) refs.push_back({-1, d.joint, 0, &d.constraint});
   const SparseL Gt = scaled_transpose(
       refs, bodies_, velocity_offset_, nv_total_, [&](int b) { return &work_[b].st; },
-      [&](int b) { return &work_[b].terms.G; }, redundancy_.length_scale, *dropped_eval_);
+      [&](int b) { return &work_[b].terms.G; }, redundancy_.length_scale, *dropped_eval_, t);
   return spqr_rank(Gt, redundancy_.threshold).rank;
 }
 

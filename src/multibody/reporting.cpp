@@ -13,6 +13,7 @@
 // crank that turns counts whole turns: the unwrapping holds while a joint
 // turns less than half a turn per step), its rate (C S' - S C') / (C^2 +
 // S^2); a length is its row's value, its rate G v.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -242,14 +243,29 @@ constexpr const char* kJointColumns[] = {"force_x",  "force_y",  "force_z",     
                                          "torque_y", "torque_z", "residual_position", "residual_velocity"};
 constexpr const char* kJointUnits[] = {"N", "N", "N", "N m", "N m", "N m", "m|1", "m/s|1/s"};
 
-// JOINT.<coordinate> and JOINT.<coordinate>_rate per coordinate of the joint's type.
-void joint_coordinate_columns(const JointSpec& j, std::vector<std::string>& names, std::vector<std::string>& units) {
+// JOINT.<coordinate> and JOINT.<coordinate>_rate per coordinate of the
+// joint's type, then per driver of the joint its driving torque
+// JOINT.drive_torque (N m) or force JOINT.drive_force (N), named
+// JOINT.<coordinate>_drive_torque when the type has two coordinates of that
+// kind (a universal joint's two angles).
+void joint_coordinate_columns(const MultibodySpec& spec, const std::vector<int>& drivers, int joint,
+                              std::vector<std::string>& names, std::vector<std::string>& units) {
+  const JointSpec& j = spec.joints[joint];
   for (const JointCoordinate& c : j.type->coordinates) {
     const bool angle = c.kind == CoordinateKind::Angle;
     names.push_back(j.name + "." + std::string(c.name));
     names.push_back(j.name + "." + std::string(c.name) + "_rate");
     units.push_back(angle ? "rad" : "m");
     units.push_back(angle ? "rad/s" : "m/s");
+  }
+  for (int d : drivers) {
+    const JointCoordinate& c = j.type->coordinates[spec.drivers[d].coordinate];
+    const bool angle = c.kind == CoordinateKind::Angle;
+    const auto same_kind = std::count_if(j.type->coordinates.begin(), j.type->coordinates.end(),
+                                         [&](const JointCoordinate& o) { return o.kind == c.kind; });
+    const std::string effort = angle ? "drive_torque" : "drive_force";
+    names.push_back(j.name + "." + (same_kind > 1 ? std::string(c.name) + "_" : std::string()) + effort);
+    units.push_back(angle ? "N m" : "N");
   }
 }
 constexpr const char* kGlobalColumns[] = {"energy", "p_x", "p_y", "p_z", "L_x", "L_y", "L_z"};
@@ -276,7 +292,7 @@ std::vector<std::string> MultibodyProblem::output_names(const RecordedParts& par
   std::vector<std::string> units;
   for (int j : parts.joints) {
     for (const char* c : kJointColumns) n.push_back(spec_.joints[j].name + "." + c);
-    joint_coordinate_columns(spec_.joints[j], n, units);
+    joint_coordinate_columns(spec_, drivers_of_joint_[j], j, n, units);
   }
   for (const char* c : kGlobalColumns) n.push_back(c);
   return n;
@@ -288,7 +304,7 @@ std::vector<std::string> MultibodyProblem::output_units(const RecordedParts& par
   std::vector<std::string> names;
   for (int j : parts.joints) {
     u.insert(u.end(), std::begin(kJointUnits), std::end(kJointUnits));
-    joint_coordinate_columns(spec_.joints[j], names, u);
+    joint_coordinate_columns(spec_, drivers_of_joint_[j], j, names, u);
   }
   u.insert(u.end(), std::begin(kGlobalUnits), std::end(kGlobalUnits));
   return u;
@@ -355,7 +371,7 @@ std::vector<std::string> MultibodyProblem::step_part_names(const RecordedParts& 
     if (block_of_joint_[joint] >= 0) multipliers(blocks_[block_of_joint_[joint]], name);
     for (const char* c : kJointColumns) n.push_back(name + "." + c);
     std::vector<std::string> units;
-    joint_coordinate_columns(spec_.joints[joint], n, units);
+    joint_coordinate_columns(spec_, drivers_of_joint_[joint], joint, n, units);
   }
   return n;
 }
@@ -371,7 +387,7 @@ std::vector<std::string> MultibodyProblem::step_part_units(const RecordedParts& 
     if (block_of_joint_[joint] >= 0) multipliers(blocks_[block_of_joint_[joint]], "N|N m", "m/s|1/s");
     u.insert(u.end(), std::begin(kJointUnits), std::end(kJointUnits));
     std::vector<std::string> names;
-    joint_coordinate_columns(spec_.joints[joint], names, u);
+    joint_coordinate_columns(spec_, drivers_of_joint_[joint], joint, names, u);
   }
   return u;
 }
@@ -408,7 +424,52 @@ int MultibodyProblem::write_coordinates(int joint, const double* y, double* out)
     out[2 * c] = value[c];
     out[2 * c + 1] = rate[c];
   }
-  return 2 * n;
+  int k = 2 * n;
+  for (int d : drivers_of_joint_[joint]) out[k++] = driving_effort(d, y);
+  return k;
+}
+
+double MultibodyProblem::driving_effort(int driver, const double* y) {
+  if (y != evaluated_y_) evaluate(0.0, y, 2);
+  const ConstraintBlock& blk = blocks_[block_of_driver_[driver]];
+  if (blk.lambda_group < 0) return 0.0;
+  BlockSides sides;
+  for (int x = 0; x < 2; ++x) {
+    sides.body[x] = blk.body_of_side[x];
+    sides.state[x] = sides.body[x] == kGround ? nullptr : &work_[sides.body[x]].st;
+  }
+  evaluate_rows(drivers_[driver].rows, drivers_[driver].row_count(), sides, driver_scratch_);
+  return multibody::driving_effort(drivers_[driver], driver_scratch_, y[groups_[blk.lambda_group].offset]);
+}
+
+bool MultibodyProblem::has_work() const {
+  if (!drivers_.empty()) return true;
+  for (const auto& f : forces_)
+    if (!f->conservative() && f->has_power()) return true;
+  return false;
+}
+
+double MultibodyProblem::work_rate(double t, const double* y) {
+  evaluate(t, y, 2);
+  double power = 0.0;
+  for (const auto& f : forces_)
+    if (!f->conservative() && f->has_power()) power += f->power(force_bodies_);
+  const double* keep = evaluated_y_;
+  evaluated_y_ = y;
+  power += driver_power(y);
+  evaluated_y_ = keep;
+  return power;
+}
+
+double MultibodyProblem::driver_power(const double* y) {
+  double power = 0.0;
+  for (int d = 0; d < static_cast<int>(drivers_.size()); ++d) {
+    const DriverSpec& ds = spec_.drivers[d];
+    double value[kMaxJointCoordinates], rate[kMaxJointCoordinates];
+    joint_coordinates(ds.joint, y, value, rate);
+    power += driving_effort(d, y) * rate[ds.coordinate];
+  }
+  return power;
 }
 
 }  // namespace rigidae::multibody

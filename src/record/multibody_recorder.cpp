@@ -73,7 +73,7 @@ const columns::Column kStepColumns[] = {
      [](const columns::Sample& s) { return obs(s).drift.velocity; }, nullptr},
     {"energy", "energy J", columns::kSteps, columns::Kind::Real, [](const columns::Sample& s) { return obs(s).energy; },
      nullptr},
-    {"energy_rel_error", "energy_rel_error (H - H0)/max(|H0|, 1 J)", columns::kSteps, columns::Kind::Real,
+    {"energy_rel_error", "energy_rel_error (H - H0 - W)/max(|H0|, 1 J), W the work of drivers and loads", columns::kSteps, columns::Kind::Real,
      [](const columns::Sample& s) { return obs(s).energy_error; }, nullptr},
     // The recorded parts' multipliers, reactions and drift (MultibodyProblem::step_part_names).
     {"parts", "", columns::kSteps, columns::Kind::Values, nullptr, nullptr},
@@ -106,13 +106,15 @@ MultibodyRecorder::MultibodyRecorder(multibody::MultibodyProblem& problem, const
   const std::vector<std::string> names = problem.output_names(grid_parts_);
   row_.resize(names.size());
   energy_column_ = static_cast<int>(std::find(names.begin(), names.end(), "energy") - names.begin());
+  has_work_ = problem.has_work();
 }
 
 void MultibodyRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& y) {
   const auto [pos, vel] = problem_.drift(t, y.data());
   const double H = problem_.kinetic_energy(y.data()) + problem_.potential_energy(y.data());
   if (!have_H0_) H0_ = H, have_H0_ = true;
-  const double err = (H - H0_) / std::max(std::abs(H0_), 1.0);
+  if (has_work_) work_.add(t, problem_.work_rate(t, y.data()));
+  const double err = (H - H0_ - work_.value()) / std::max(std::abs(H0_), 1.0);
   ++steps_recorded_;
   max_drift_position_ = std::max(max_drift_position_, pos);
   max_drift_velocity_ = std::max(max_drift_velocity_, vel);
@@ -133,7 +135,10 @@ void MultibodyRecorder::on_output(double t, const Eigen::VectorXd& y) {
   seen_start_ = true;
   if (!row && have_H0_) return;
   problem_.output_row(y.data(), grid_parts_, row_.data());
-  if (!have_H0_) H0_ = row_[energy_column_], have_H0_ = true;
+  if (!have_H0_) {
+    H0_ = row_[energy_column_], have_H0_ = true;
+    if (has_work_) work_.add(t, problem_.work_rate(t, y.data()));
+  }
   if (!row) return;
   fmt::memory_buffer line;
   fmt::format_to(std::back_inserter(line), "{}", t);

@@ -5,12 +5,17 @@
 // invariant, 10 tau N for a constraint).
 //
 // Measures (dimensionless, maxima over the accepted steps):
-//   energy               |H - H0| / E_s,  only when the scene conserves it:
-//                        no body load with a torque or in the body frame, no
-//                        spring damping, no torsional damping (gravity,
-//                        undamped springs, undamped torsional springs and
-//                        constant space-frame forces have a potential; ideal
-//                        joints do no work)
+//   energy               |H - H0 - W| / E_s,  when the scene's energy balance
+//                        is known: no spring damping, no torsional damping
+//                        (gravity, undamped springs, undamped torsional springs
+//                        and constant space-frame forces have a potential;
+//                        ideal joints do no work). W(t) is the work done by
+//                        the drivers and by the loads without a potential
+//                        (torques, body-frame and time-dependent loads): the
+//                        integral of their power P = sum_d tau_d theta_d' +
+//                        sum_loads Q . v, by the quadrature below.
+// The work's quadrature: multibody/work_integral.hpp (the polynomial through
+// the last six values of P at the accepted steps).
 //   constraint_position  max |Phi| / L    (the joints' and the bodies' own
 //                        position rows; point rows are in m, angular rows in
 //                        rad: dividing these by L too is conservative for L < 1 m)
@@ -31,6 +36,7 @@
 #include "rigidae/app/accuracy_check.hpp"
 #include "rigidae/model/scene.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/multibody/work_integral.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 
 namespace rigidae {
@@ -41,6 +47,9 @@ double mechanism_size(const MultibodySpec& spec);
 
 // Whether a multibody scene conserves its energy (see above).
 bool multibody_conserves_energy(const MultibodySpec& spec);
+// Whether its energy balance H - H0 = W is checked: every force element is
+// conservative or reports its power (drivers always do).
+bool multibody_energy_balance_known(const MultibodySpec& spec);
 
 // A StepSink in front of the recorder (or of nothing, for a run that records
 // nothing): forwards everything and measures each accepted step.
@@ -64,6 +73,10 @@ class MultibodyInvariantMonitor final : public StepSink {
   const Scene& scene_;
   bool conservative_, started_ = false;
   double size_ = 1.0, mass_ = 0.0, h0_ = 0.0, e_scale_ = 1.0, v_scale_ = 1.0;
+  // The work W of the drivers and of the loads without a potential, and the
+  // last values of their power (t, P), oldest first, for its quadrature.
+  bool has_work_ = false;
+  multibody::WorkIntegral work_;
   InvariantDrifts d_;
   long steps_ = 0;
 };

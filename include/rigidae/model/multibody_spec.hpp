@@ -21,6 +21,7 @@
 #include "rigidae/model/constraint_row.hpp"
 #include "rigidae/model/coordinates.hpp"
 #include "rigidae/model/joint_type.hpp"
+#include "rigidae/model/time_function.hpp"
 #include "rigidae/model/visual_shape.hpp"
 
 namespace rigidae {
@@ -90,12 +91,25 @@ struct SpringSpec {
   SourcePosition where;
 };
 
-// A constant force (at the centre of mass) and torque on one body.
+// A force (at the centre of mass) and torque on one body: constant, or
+// scaled by a function of time (force(t) = profile(t) force, the same for the
+// torque; scene key `profile`).
 struct BodyLoadSpec {
   int body = 0;
   Vec3 force = Vec3::Zero();   // N
   Vec3 torque = Vec3::Zero();  // N m
   bool body_frame = false;     // components in the body frame (rotating with it), else space
+  std::optional<TimeFunction> profile;  // unset: constant
+  SourcePosition where;
+};
+
+// A driver ([[drivers]]): a joint coordinate prescribed as a function of
+// time, a rheonomic constraint row (multibody/driver_rows.hpp) whose
+// multiplier gives the driving torque (an angle) or force (a length).
+struct DriverSpec {
+  int joint = 0;       // index into joints
+  int coordinate = 0;  // index into the joint type's coordinates
+  TimeFunction motion;  // rad or m
   SourcePosition where;
 };
 
@@ -113,6 +127,7 @@ struct MultibodySpec {
   std::vector<JointSpec> joints;
   std::vector<SpringSpec> springs;
   std::vector<BodyLoadSpec> loads;
+  std::vector<DriverSpec> drivers;
   Vec3 gravity_W = Vec3(0, 0, -9.81);  // m/s^2
   // Largest position-level joint miss at the start that is projected (with a
   // warning) rather than refused; larger misses are an error naming the joint.

@@ -29,6 +29,7 @@ struct ForceBodies {
   std::vector<int> q_group, v_group;    // unknown groups (JacobianSink)
   std::vector<int> v_offset;            // offset of the body's velocities in F
   Vec3 gravity_W = Vec3::Zero();        // m/s^2
+  double t = 0.0;                       // s, the time of the evaluation (time-dependent loads)
   const BodyState* of(int body) const { return body == kGround ? nullptr : state[static_cast<std::size_t>(body)]; }
 };
 
@@ -48,6 +49,11 @@ class ForceElement {
   // Q = -dV/dq exactly (no damping, no follower load): the energy check
   // applies only when every element is conservative.
   virtual bool conservative() const = 0;
+  // The power Q . v at the bodies' evaluation (W): the energy check integrates
+  // it for elements that are not conservative but whose work is known (a
+  // time-dependent load). Elements that return no power leave the check off.
+  virtual bool has_power() const { return false; }
+  virtual double power(const ForceBodies&) { return 0.0; }
   // Elements with a state of their own besides y (a torsion angle's branch):
   // reset at the start, follow after each accepted step (bodies evaluated).
   virtual bool follows_motion() const { return false; }

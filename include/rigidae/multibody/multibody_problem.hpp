@@ -65,6 +65,7 @@
 #include "rigidae/multibody/assembly.hpp"
 #include "rigidae/multibody/block_scheme.hpp"
 #include "rigidae/multibody/constraint_rows.hpp"
+#include "rigidae/multibody/driver_rows.hpp"
 #include "rigidae/multibody/force_element.hpp"
 #include "rigidae/multibody/jacobian_sink.hpp"
 #include "rigidae/solver/problem.hpp"
@@ -83,9 +84,10 @@ struct BodyModel {
 };
 
 struct ConstraintBlock {
-  bool internal = false;  // a body's own constraints, else a joint
+  bool internal = false;  // a body's own constraints, else a joint or a driver
   int body = -1;          // internal: the body
-  int joint = -1;         // joint: index in the spec
+  int joint = -1;         // joint or driver: the joint's index in the spec
+  int driver = -1;        // a driver's index in the spec (one rheonomic row; driver_rows.hpp)
   ConstraintKind kind = ConstraintKind::Force;
   std::vector<ConstraintRow> rows;  // joints
   std::vector<std::string> row_names;
@@ -114,7 +116,7 @@ struct RedundancyReport {
   int joint_rows = 0;    // the joints' rows before the drop
   int rank = 0;          // of the scaled Force rows at the start
   int rank_dof = 0;      // velocities - rank
-  int gruebler_dof = 0;  // 6 bodies - sum over joints of (6 - the type's freedoms)
+  int gruebler_dof = 0;  // 6 bodies - sum over joints of (6 - the type's freedoms) - drivers
   double length_scale = 1.0;  // L (m): point rows divided by it
   double threshold = 0.0;     // of the rank decision (scaled units)
   std::vector<RedundantRow> dropped;
@@ -219,6 +221,19 @@ class MultibodyProblem final : public DaeProblem {
   // followed from the start; m) and rates (rad/s; m/s). Allocates nothing.
   int joint_coordinate_count(int joint) const;
   void joint_coordinates(int joint, const double* y, double* value, double* rate);
+  // Drivers (spec().drivers order): the driving torque (N m) or force (N) at
+  // y, from the driver's multiplier (driver_rows.hpp). Allocates nothing.
+  double driving_effort(int driver, const double* y);
+  // Their power sum_d effort_d * coordinate rate_d (W) at y: the work rate of
+  // the drivers on the mechanism.
+  double driver_power(const double* y);
+  // The power of the drivers and of the force elements without a potential
+  // that report it (ForceElement::power) at (t, y), W: dW/dt of the energy
+  // check's work.
+  double work_rate(double t, const double* y);
+  // Whether anything does work that work_rate counts (drivers, or force
+  // elements without a potential that report their power).
+  bool has_work() const;
   // Position- and velocity-level drift over all blocks (max norms).
   std::pair<double, double> drift(double t, const double* y);
   // Projects y onto Phi = 0 (Gauss-Newton, least change in the mass metric)
@@ -318,6 +333,11 @@ class MultibodyProblem final : public DaeProblem {
   std::vector<ConstraintBlock> blocks_;
   std::vector<UnknownGroup> groups_;
   std::vector<int> block_of_joint_;   // index in blocks_ of joint j (-1: no multipliers)
+  std::vector<DriverRow> drivers_;    // spec_.drivers' rows
+  std::vector<int> block_of_driver_;  // index in blocks_ of driver d
+  std::vector<std::vector<int>> drivers_of_joint_;  // per joint, its drivers (spec order)
+  BlockEval driver_scratch_;          // the coordinate rows of the driver being evaluated
+  double evaluated_t_ = 0.0;          // the time of the last evaluate() (drivers' rows read it)
   std::vector<int> velocity_offset_;  // of body i's v in the stacked velocities
   int nv_total_ = 0;
   int n_ = 0;

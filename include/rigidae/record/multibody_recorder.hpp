@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/multibody/work_integral.hpp"
 #include "rigidae/record/npy_file.hpp"
 #include "rigidae/record/recorder.hpp"
 #include "rigidae/solver/ida_driver.hpp"
@@ -64,6 +65,10 @@ class MultibodyRecorder final : public StepSink {
   bool start_is_output_ = true, seen_start_ = false;
   long steps_recorded_ = 0;
   double max_drift_position_ = 0.0, max_drift_velocity_ = 0.0, max_energy_error_ = 0.0;
+  // The work of drivers and loads without a potential (energy_rel_error is
+  // (H - H0 - W) / max(|H0|, 1 J)); off for a scene without them.
+  bool has_work_ = false;
+  multibody::WorkIntegral work_;
 };
 
 }  // namespace rigidae

@@ -1,5 +1,9 @@
-// A constant force (at the centre of mass) and torque on one body
-// ([[loads]], BodyLoadSpec), in space or in the body frame.
+// A force (at the centre of mass) and torque on one body ([[loads]],
+// BodyLoadSpec), in space or in the body frame: constant, or both scaled by
+// s(t), the load's profile (model/time_function.hpp); every formula below
+// holds with F, tau replaced by s(t) F, s(t) tau (t is not an unknown, so
+// the iteration matrix only scales). A profiled load has a time-dependent
+// potential and is not conservative: the energy check counts its work.
 //
 // A space force F acts on x only: Q_x = F, V = -F . x. A body-frame force
 // acts on x too, Q_x = R F_B: the direction F_B fixed in the body, so
@@ -19,9 +23,10 @@ namespace {
 
 class BodyLoad final : public ForceElement {
  public:
-  explicit BodyLoad(const BodyLoadSpec& load) : load_(load) {}
+  explicit BodyLoad(const BodyLoadSpec& load) : spec_(load), load_(load) {}
 
   void add_force(const ForceBodies& b, double* F) override {
+    scale(b.t);
     const BodyState& st = *b.of(load_.body);
     const int vo = b.v_offset[load_.body];
     const Vec3 f = load_.body_frame ? Vec3(st.P.R * load_.force) : load_.force;
@@ -37,6 +42,7 @@ class BodyLoad final : public ForceElement {
   }
 
   void add_jacobian(const ForceBodies& b, JacobianSink& sink) override {
+    scale(b.t);
     const BodyState& st = *b.of(load_.body);
     const int Q = b.q_group[load_.body], V = b.v_group[load_.body];
     VectorEval ev;
@@ -68,11 +74,41 @@ class BodyLoad final : public ForceElement {
 
   // A space force's potential -F . x; a follower force or a torque: none tracked.
   double potential_energy(const ForceBodies& b) override {
+    if (spec_.profile) return 0.0;
     return load_.body_frame ? 0.0 : -load_.force.dot(b.of(load_.body)->x());
   }
-  bool conservative() const override { return !load_.body_frame && load_.torque.norm() == 0.0; }
+  bool conservative() const override {
+    return !spec_.profile && !load_.body_frame && load_.torque.norm() == 0.0;
+  }
+
+  // The power Q . v at the bodies' evaluation (the work the energy check counts).
+  bool has_power() const override { return true; }
+  double power(const ForceBodies& b) override {
+    scale(b.t);
+    const BodyState& st = *b.of(load_.body);
+    const Vec3 f = load_.body_frame ? Vec3(st.P.R * load_.force) : load_.force;
+    double p = 0.0;
+    for (int k = 0; k < 3; ++k) p += f(k) * st.v[k];
+    if (load_.torque.isZero(0.0)) return p;
+    VectorEval ev;
+    for (int e = 0; e < 3; ++e) {
+      evaluate_vector(st, {load_.body, Vec3::Unit(e), false}, ev);
+      const Vec3 fe = load_.body_frame ? Vec3(0.5 * (st.P.R * load_.torque.cross(Vec3::Unit(e))))
+                                       : Vec3(0.5 * load_.torque.cross(ev.value));
+      p += ev.Wv.dot(fe);
+    }
+    return p;
+  }
 
  private:
+  // load_ = spec_ scaled by the profile at t (no allocation).
+  void scale(double t) {
+    if (!spec_.profile) return;
+    const double s = spec_.profile->value(t);
+    load_.force = s * spec_.force;
+    load_.torque = s * spec_.torque;
+  }
+  BodyLoadSpec spec_;
   BodyLoadSpec load_;
 };
 
