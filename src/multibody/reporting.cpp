@@ -17,6 +17,8 @@
 #include <numbers>
 
 #include "rigidae/multibody/multibody_problem.hpp"
+
+#include <span>
 #include "rigidae/so3/rotation.hpp"
 
 namespace rigidae::multibody {
@@ -90,6 +92,9 @@ JointReaction MultibodyProblem::joint_reaction(int joint, const double* y) {
         out.torque += lambda[r] * da.cross(db);
         break;
       }
+      case RowReaction::Distance:  // (|p_b - p_a|^2 - L^2) / (2L): the tension along the rod
+        out.force -= lambda[r] * (pb - pa) / js.length;
+        break;
       case RowReaction::Coordinate: break;  // not a constraint row
     }
   }
@@ -227,6 +232,14 @@ RecordedParts every_part(std::size_t bodies, std::size_t joints) {
 
 constexpr const char* kBodyColumns[] = {"qw", "qx", "qy", "qz", "wx", "wy", "wz", "x", "y", "z", "vx", "vy", "vz"};
 constexpr const char* kBodyUnits[] = {"1", "1", "1", "1", "rad/s", "rad/s", "rad/s", "m", "m", "m", "m/s", "m/s", "m/s"};
+// A particle has no orientation: only its position and velocity columns.
+constexpr int kRotationColumns = 7;
+std::span<const char* const> body_columns(const BodyModel& b) {
+  return std::span<const char* const>(kBodyColumns).subspan(b.particle ? kRotationColumns : 0);
+}
+std::span<const char* const> body_units(const BodyModel& b) {
+  return std::span<const char* const>(kBodyUnits).subspan(b.particle ? kRotationColumns : 0);
+}
 // A joint's reaction and the residuals of its rows (|Phi|, |G v|: m for
 // point rows, 1 for angular ones), then its coordinates (joint_coordinate_columns).
 constexpr const char* kJointColumns[] = {"force_x",  "force_y",  "force_z",           "torque_x",
@@ -263,7 +276,7 @@ void MultibodyProblem::output_row(const double* y, double* out) {
 std::vector<std::string> MultibodyProblem::output_names(const RecordedParts& parts) const {
   std::vector<std::string> n;
   for (int i : parts.bodies)
-    for (const char* c : kBodyColumns) n.push_back(bodies_[i].name + "." + c);
+    for (const char* c : body_columns(bodies_[i])) n.push_back(bodies_[i].name + "." + c);
   std::vector<std::string> units;
   for (int j : parts.joints) {
     for (const char* c : kJointColumns) n.push_back(spec_.joints[j].name + "." + c);
@@ -275,7 +288,10 @@ std::vector<std::string> MultibodyProblem::output_names(const RecordedParts& par
 
 std::vector<std::string> MultibodyProblem::output_units(const RecordedParts& parts) const {
   std::vector<std::string> u;
-  for (std::size_t i = 0; i < parts.bodies.size(); ++i) u.insert(u.end(), std::begin(kBodyUnits), std::end(kBodyUnits));
+  for (int i : parts.bodies) {
+    const auto units = body_units(bodies_[i]);
+    u.insert(u.end(), units.begin(), units.end());
+  }
   std::vector<std::string> names;
   for (int j : parts.joints) {
     u.insert(u.end(), std::begin(kJointUnits), std::end(kJointUnits));
@@ -293,8 +309,11 @@ void MultibodyProblem::output_row(const double* y, const RecordedParts& parts, d
   for (int i : parts.bodies) {
     const Vec4 q = body_orientation(i, y);
     const Vec3 w = body_omega_space(i, y), x = body_position(i, y), v = body_velocity(i, y);
-    for (int c = 0; c < 4; ++c) out[k++] = q(c);
-    for (const Vec3* a : {&w, &x, &v})
+    if (!bodies_[i].particle) {
+      for (int c = 0; c < 4; ++c) out[k++] = q(c);
+      for (int c = 0; c < 3; ++c) out[k++] = w(c);
+    }
+    for (const Vec3* a : {&x, &v})
       for (int c = 0; c < 3; ++c) out[k++] = (*a)(c);
   }
   for (int j : parts.joints) {

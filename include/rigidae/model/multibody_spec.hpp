@@ -34,8 +34,12 @@ struct SourcePosition {
 
 struct BodySpec {
   std::string name;
+  // A point mass ([[bodies]] kind = "particle"): mass and position only, no
+  // rotation coordinates; inertia_com is zero, R0_WB the identity, omega0_B
+  // zero (multibody/point_mass.hpp).
+  bool particle = false;
   double mass = 1.0;                    // kg, > 0
-  Mat3 inertia_com = Mat3::Identity();  // kg m^2 about the centre of mass, body axes, SPD
+  Mat3 inertia_com = Mat3::Identity();  // kg m^2 about the centre of mass, body axes, SPD (zero for a particle)
   // Initial state.
   Vec3 x0_W = Vec3::Zero();        // m, centre of mass in space
   Mat3 R0_WB = Mat3::Identity();   // an exact rotation after loading
@@ -70,6 +74,9 @@ struct JointSpec {
   // prismatic and fixed joints to stop the rotation about the axis, and as the
   // zero of a revolute joint's angle (unit, normal_a . axis_a = 0).
   Vec3 normal_a = Vec3::UnitX(), normal_b = Vec3::UnitX();
+  // A distance joint's rod length |p_b - p_a| (m, > 0); the loader's default
+  // is the distance at the initial pose.
+  double length = 0.0;
   // Torsional spring-damper in a revolute joint: torque -k (theta - theta0) - c theta'.
   double torsion_stiffness = 0.0;  // N m / rad
   double torsion_damping = 0.0;    // N m s / rad

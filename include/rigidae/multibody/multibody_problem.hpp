@@ -71,6 +71,7 @@ namespace rigidae::multibody {
 
 struct BodyModel {
   std::string name;
+  bool particle = false;  // a point mass: rep and map are the empty rotation block (point_mass.hpp)
   double mass = 1.0;
   Mat3 inertia;  // about the centre of mass, body axes
   Coordinates coordinates;
@@ -282,6 +283,7 @@ class MultibodyProblem final : public DaeProblem {
   std::string row_label(int block, int row) const;
 
   MultibodySpec spec_;
+  bool lagrange_form_ = true;  // the scene's equations (a particle's BodyState is always on the Lagrange branch)
   AssemblyReport assembly_;
   BlockScheme scheme_;
   double switch_threshold_ = 0.1;
