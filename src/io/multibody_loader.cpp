@@ -46,10 +46,11 @@ namespace {
 // The schema
 // ---------------------------------------------------------------------------
 
-constexpr std::array<std::string_view, 16> kRootKeys{
+constexpr std::array<std::string_view, 17> kRootKeys{
     "schema_version", "name",    "description", "start_tolerance", "reference",   "bodies",  "joints",
     "springs",        "loads",   "gravity",     "time",            "output",      "formulation", "solver",
-    "expected_dof",   "mechanism"};
+    "expected_dof",   "mechanism", "markers"};
+constexpr std::array<std::string_view, 4> kMarkerKeys{"name", "body", "point", "frame"};
 constexpr std::array<std::string_view, 3> kMechanismKeys{"expected_dof", "assemble", "hold"};
 constexpr std::array<std::string_view, 16> kBodyKeys{
     "name",     "mass",  "inertia_principal", "inertia",    "inertia_axes", "position",         "quaternion",
@@ -83,7 +84,7 @@ constexpr std::array<std::string_view, 4> kLoadKeys{"body", "force", "torque", "
 constexpr std::array<std::string_view, 2> kOutputPartKeys{"bodies", "joints"};
 
 // Schema 2's own tables; the shared ones are added from scene_loader.cpp.
-std::array<SectionKeys, 9> own_sections() {
+std::array<SectionKeys, 10> own_sections() {
   return {{
     {"", kRootKeys},
     {"mechanism", kMechanismKeys},
@@ -94,12 +95,13 @@ std::array<SectionKeys, 9> own_sections() {
     {"joints", joint_keys()},
     {"springs", kSpringKeys},
     {"loads", kLoadKeys},
+    {"markers", kMarkerKeys},
   }};
 }
 
 const std::vector<SectionKeys>& sections() {
   static const std::vector<SectionKeys> all = [] {
-    const std::array<SectionKeys, 9> own = own_sections();
+    const std::array<SectionKeys, 10> own = own_sections();
     std::vector<SectionKeys> v(own.begin(), own.end());
     const auto shared = shared_sections();
     v.insert(v.end(), shared.begin(), shared.end());
@@ -277,6 +279,7 @@ class MultibodyReader {
     check_welds(spec);
     read_springs(spec);
     read_loads(spec);
+    read_markers(spec);
 
     read_time(r_, root_, scene);
     read_output(r_, root_, scene, kOutputPartKeys);
@@ -403,7 +406,8 @@ class MultibodyReader {
     const std::string name = r_.string(n, key);
     if (name == kGroundName) {
       if (!allow_ground)
-        r_.fail(n, fmt::format("'{}' = \"ground\": a load acts on a body (the ground does not move)", key));
+        r_.fail(n, fmt::format("'{}' = \"ground\": a {} is on a body (the ground does not move)", key,
+                               key.rfind("markers", 0) == 0 ? "marker" : "load"));
       return kGround;
     }
     if (const auto it = body_index_.find(name); it != body_index_.end()) return it->second;
@@ -1097,6 +1101,39 @@ class MultibodyReader {
                                                key("frame"), body_label(l.body)));
       }
       spec.loads.push_back(l);
+    }
+  }
+
+  // [[markers]]: name, body, point (space at the initial pose, or frame = "body").
+  void read_markers(MultibodySpec& spec) {
+    const auto list = tables("markers", false, "marker");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const toml::table& t = *list[i];
+      const std::string prefix = item("markers", i);
+      const auto key = [&](std::string_view k) { return join_key(prefix, k); };
+      r_.check_keys(t, "markers", kMarkerKeys, sections());
+      MarkerSpec mk;
+      mk.where = where(t);
+      const toml::node& name_node = r_.required(t, "markers", "name", "a name such as \"tip\" (it names the columns)");
+      mk.name = r_.string(name_node, key("name"));
+      check_part_name(r_, name_node, key("name"), mk.name);
+      claim_name(&name_node, t, "marker", mk.name);
+      mk.body = body_index(r_.required(t, "markers", "body", "the name of the body it is fixed in"), key("body"), false);
+      bool body_frame = false;
+      if (const toml::node* f = t.get("frame")) body_frame = r_.choice(*f, key("frame"), kFrames) == 1;
+      const Pose p = pose(mk.body);
+      if (const toml::node* n = t.get("point")) {
+        const Vec3 v = bounded_vec3(r_, *n, key("point"), kMaxLength, "m");
+        mk.point = body_frame ? v : Vec3(p.R.transpose() * (v - p.x));
+        if (is_particle(mk.body) && mk.point.norm() > 1e-9 * std::max(1.0, p.x.norm()))
+          r_.fail(*n, fmt::format("marker \"{}\" is on {}, a particle, {:.6g} m away from it: a point mass has no "
+                                  "extent (leave 'point' out: the marker is the particle's position)",
+                                  mk.name, body_label(mk.body), mk.point.norm()));
+      } else if (!is_particle(mk.body)) {
+        r_.required(t, "markers", "point",
+                    "[x, y, z] in m: the point, in space at the initial pose (or frame = \"body\": in the body's frame)");
+      }
+      spec.markers.push_back(mk);
     }
   }
 

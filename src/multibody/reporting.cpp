@@ -256,6 +256,9 @@ void joint_coordinate_columns(const JointSpec& j, std::vector<std::string>& name
     units.push_back(angle ? "rad/s" : "m/s");
   }
 }
+// A marker's position, velocity and acceleration in space (markers.cpp).
+constexpr const char* kMarkerColumns[] = {"x", "y", "z", "vx", "vy", "vz", "ax", "ay", "az"};
+constexpr const char* kMarkerUnits[] = {"m", "m", "m", "m/s", "m/s", "m/s", "m/s^2", "m/s^2", "m/s^2"};
 constexpr const char* kGlobalColumns[] = {"energy", "p_x", "p_y", "p_z", "L_x", "L_y", "L_z"};
 constexpr const char* kGlobalUnits[] = {"J", "N s", "N s", "N s", "N m s", "N m s", "N m s"};
 
@@ -282,6 +285,8 @@ std::vector<std::string> MultibodyProblem::output_names(const RecordedParts& par
     for (const char* c : kJointColumns) n.push_back(spec_.joints[j].name + "." + c);
     joint_coordinate_columns(spec_.joints[j], n, units);
   }
+  for (const MarkerSpec& m : spec_.markers)
+    for (const char* c : kMarkerColumns) n.push_back(m.name + "." + c);
   for (const char* c : kGlobalColumns) n.push_back(c);
   return n;
 }
@@ -297,6 +302,7 @@ std::vector<std::string> MultibodyProblem::output_units(const RecordedParts& par
     u.insert(u.end(), std::begin(kJointUnits), std::end(kJointUnits));
     joint_coordinate_columns(spec_.joints[j], names, u);
   }
+  for (std::size_t m = 0; m < spec_.markers.size(); ++m) u.insert(u.end(), std::begin(kMarkerUnits), std::end(kMarkerUnits));
   u.insert(u.end(), std::begin(kGlobalUnits), std::end(kGlobalUnits));
   return u;
 }
@@ -324,6 +330,11 @@ void MultibodyProblem::output_row(const double* y, const RecordedParts& parts, d
     out[k++] = phi;
     out[k++] = phidot;
     k += write_coordinates(j, y, out + k);
+  }
+  if (!spec_.markers.empty()) {
+    marker_kinematics(y, out + k);
+    k += 9 * static_cast<int>(spec_.markers.size());
+    evaluate(0.0, y, 2);
   }
   out[k++] = kinetic_energy(y) + potential_energy(y);
   const Vec3 p = linear_momentum(y), L = angular_momentum(y);
@@ -367,6 +378,8 @@ std::vector<std::string> MultibodyProblem::step_part_names(const RecordedParts& 
     std::vector<std::string> units;
     joint_coordinate_columns(spec_.joints[joint], n, units);
   }
+  for (const MarkerSpec& m : spec_.markers)
+    for (const char* c : kMarkerColumns) n.push_back(m.name + "." + c);
   return n;
 }
 
@@ -383,6 +396,7 @@ std::vector<std::string> MultibodyProblem::step_part_units(const RecordedParts& 
     std::vector<std::string> names;
     joint_coordinate_columns(spec_.joints[joint], names, u);
   }
+  for (std::size_t m = 0; m < spec_.markers.size(); ++m) u.insert(u.end(), std::begin(kMarkerUnits), std::end(kMarkerUnits));
   return u;
 }
 
@@ -406,6 +420,7 @@ void MultibodyProblem::step_part_row(const double* y, const RecordedParts& parts
     out[k++] = phidot;
     k += write_coordinates(joint, y, out + k);
   }
+  marker_kinematics(y, out + k);
   evaluated_y_ = nullptr;
 }
 

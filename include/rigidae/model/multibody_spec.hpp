@@ -106,6 +106,16 @@ struct BodyLoadSpec {
   SourcePosition where;
 };
 
+// A marker ([[markers]]): a named point fixed in a body, whose position,
+// velocity and acceleration in space are output columns MARKER.x..z,
+// MARKER.vx..vz, MARKER.ax..az (issue 22 item 5).
+struct MarkerSpec {
+  std::string name;
+  int body = 0;                // index into bodies (never the ground)
+  Vec3 point = Vec3::Zero();   // body frame, from the centre of mass (zero on a particle)
+  SourcePosition where;
+};
+
 // An assembled start ([mechanism] assemble / hold): the bodies' initial poses
 // and velocities are guesses that the start moves onto the joints, keeping the
 // held bodies' as given (multibody/assembly.hpp).
@@ -120,6 +130,7 @@ struct MultibodySpec {
   std::vector<JointSpec> joints;
   std::vector<SpringSpec> springs;
   std::vector<BodyLoadSpec> loads;
+  std::vector<MarkerSpec> markers;
   Vec3 gravity_W = Vec3(0, 0, -9.81);  // m/s^2
   // Largest position-level joint miss at the start that is projected (with a
   // warning) rather than refused; larger misses are an error naming the joint.
