@@ -78,7 +78,9 @@ class Poses:
         for b in geometry["bodies"]:
             p = b["columns"]
             q = [col.get(p + k) for k in ("qw", "qx", "qy", "qz")]
-            if any(i is None for i in q):
+            if b.get("particle"):
+                q = None  # a point mass: no orientation columns, R = I
+            elif any(i is None for i in q):
                 raise SystemExit(f"trajectory.csv has no columns {p}qw..{p}qz: record the body "
                                  "([output] bodies) to draw it")
             x = [col.get(p + k) for k in ("x", "y", "z")]
@@ -96,7 +98,7 @@ class Poses:
     def pose(self, row, k):
         """(x, R) of body k."""
         q_cols, x_cols, com = self.bodies[k]
-        R = quaternion_matrix([row[i] for i in q_cols])
+        R = quaternion_matrix([row[i] for i in q_cols] if q_cols is not None else [1.0, 0.0, 0.0, 0.0])
         if x_cols is not None:
             x = [row[i] for i in x_cols]
         elif self.free_single:

@@ -19,16 +19,26 @@ BodyGrid read_body_grid(const std::filesystem::path& csv) {
   if (header.empty() || header[0] != "t")
     throw InputError(fmt::format("{}: no header line starting with t", csv.string()));
   BodyGrid g;
-  const std::string suffix = ".qw";
-  for (const std::string& h : header)
-    if (h.size() > suffix.size() && h.compare(h.size() - suffix.size(), suffix.size(), suffix) == 0)
-      g.bodies.push_back(h.substr(0, h.size() - suffix.size()));
-  if (g.bodies.empty()) throw InputError(fmt::format("{}: no BODY.qw column: not a multibody trajectory", csv.string()));
+  // Bodies: BODY.x followed by BODY.y, BODY.z, BODY.vx (a rigid body has
+  // BODY.qw..wz before them, a particle has none: its orientation is the
+  // identity).
+  const auto has = [&](const std::string& name) { return std::find(header.begin(), header.end(), name) != header.end(); };
+  const std::string suffix = ".x";
+  for (std::size_t k = 0; k + 3 < header.size(); ++k) {
+    const std::string& h = header[k];
+    if (h.size() <= suffix.size() || h.compare(h.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
+    const std::string b = h.substr(0, h.size() - suffix.size());
+    if (header[k + 1] == b + ".y" && header[k + 2] == b + ".z" && header[k + 3] == b + ".vx") g.bodies.push_back(b);
+  }
+  if (g.bodies.empty())
+    throw InputError(fmt::format("{}: no BODY.x, BODY.y, BODY.z, BODY.vx columns: not a multibody trajectory", csv.string()));
+  constexpr std::size_t kNone = static_cast<std::size_t>(-1);
   std::vector<std::size_t> cq, cx, cw;
   for (const std::string& b : g.bodies) {
-    cq.push_back(rows.column(b + ".qw"));
+    const bool rigid = has(b + ".qw");
+    cq.push_back(rigid ? rows.column(b + ".qw") : kNone);
     cx.push_back(rows.column(b + ".x"));
-    cw.push_back(rows.column(b + ".wx"));
+    cw.push_back(rigid ? rows.column(b + ".wx") : kNone);
   }
   while (rows.next()) {
     auto v = [&](std::size_t k) { return rows.value(k); };
@@ -36,9 +46,9 @@ BodyGrid read_body_grid(const std::filesystem::path& csv) {
     std::vector<Vec4> q;
     std::vector<Vec3> x, w;
     for (std::size_t b = 0; b < g.bodies.size(); ++b) {
-      q.emplace_back(v(cq[b]), v(cq[b] + 1), v(cq[b] + 2), v(cq[b] + 3));
+      q.push_back(cq[b] == kNone ? Vec4(1, 0, 0, 0) : Vec4(v(cq[b]), v(cq[b] + 1), v(cq[b] + 2), v(cq[b] + 3)));
       x.emplace_back(v(cx[b]), v(cx[b] + 1), v(cx[b] + 2));
-      w.emplace_back(v(cw[b]), v(cw[b] + 1), v(cw[b] + 2));
+      w.push_back(cw[b] == kNone ? Vec3::Zero() : Vec3(v(cw[b]), v(cw[b] + 1), v(cw[b] + 2)));
     }
     g.q_WB.push_back(std::move(q));
     g.x_W.push_back(std::move(x));

@@ -120,7 +120,26 @@ std::string scene_geometry_json(const Scene& scene) {
     // The scene's size: its bodies' starting spread and their shapes.
     Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
     for (const BodySpec& b : mb.bodies) lo = lo.cwiseMin(b.x0_W), hi = hi.cwiseMax(b.x0_W);
+    // Joint points on the ground too (a particle's rod hangs from one).
+    for (const JointSpec& j : mb.joints)
+      for (const auto& [body, point] : {std::pair{j.body_a, j.point_a}, std::pair{j.body_b, j.point_b}})
+        if (body == kGround) lo = lo.cwiseMin(point), hi = hi.cwiseMax(point);
     g["extent"] = (hi - lo).norm() + 2.0 * reach;
+    // A particle has no orientation (no BODY.qw columns) and no inertia
+    // ellipsoid: drawn as a small sphere (2 % of the scene's size) unless the
+    // scene gives its visual.
+    const double extent = g["extent"].get<double>() > 0.0 ? g["extent"].get<double>() : 1.0;
+    for (std::size_t i = 0; i < mb.bodies.size(); ++i) {
+      if (!mb.bodies[i].particle) continue;
+      json& b = bodies[i];
+      b["particle"] = true;
+      if (!mb.bodies[i].visuals.empty()) continue;
+      b["inertia_ellipsoid"] = false;
+      b["visuals"] = json::array({json{{"shape", "sphere"},
+                                       {"radius", 0.02 * extent},
+                                       {"position", vec(Vec3::Zero())},
+                                       {"quaternion", json::array({1.0, 0.0, 0.0, 0.0})}}});
+    }
   } else {
     g["schema_version"] = 1;
     g["support"] = scene.support == Support::FixedPoint ? "fixed_point" : "free";

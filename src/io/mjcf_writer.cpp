@@ -137,6 +137,12 @@ class Writer {
              fmt::format("spring \"{}\": MJCF export writes bodies and joints, not two-point springs (a spatial "
                          "tendon); export a scene without [[springs]]",
                          mb_.springs.front().name));
+    for (const BodySpec& b : mb_.bodies)
+      if (b.particle)
+        refuse(b.where, fmt::format("body \"{}\" is a particle (kind = \"particle\"): MJCF has no point mass without "
+                                    "inertia (a MuJoCo body needs positive principal moments); give it a small inertia "
+                                    "as a rigid body to export the scene",
+                                    b.name));
     if (!mb_.loads.empty())
       refuse(mb_.loads.front().where, "[[loads]]: MJCF has no constant body load (MuJoCo applies such forces at run "
                                       "time through xfrc_applied); export a scene without [[loads]]");

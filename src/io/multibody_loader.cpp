@@ -47,20 +47,25 @@ namespace {
 // The schema
 // ---------------------------------------------------------------------------
 
-constexpr std::array<std::string_view, 17> kRootKeys{
+constexpr std::array<std::string_view, 18> kRootKeys{
     "schema_version", "name",    "description", "start_tolerance", "reference",   "bodies",  "joints",
     "springs",        "loads",   "gravity",     "time",            "output",      "formulation", "solver",
-    "expected_dof",   "mechanism", "drivers"};
+    "expected_dof",   "mechanism", "drivers", "markers"};
+constexpr std::array<std::string_view, 4> kMarkerKeys{"name", "body", "point", "frame"};
 constexpr std::array<std::string_view, 3> kMechanismKeys{"expected_dof", "assemble", "hold"};
-constexpr std::array<std::string_view, 15> kBodyKeys{
+constexpr std::array<std::string_view, 16> kBodyKeys{
     "name",     "mass",  "inertia_principal", "inertia",    "inertia_axes", "position",         "quaternion",
     "euler",    "matrix", "axis_angle",       "velocity",   "angular_velocity", "angular_velocity_frame",
-    "coordinates", "visual"};
+    "coordinates", "visual", "kind"};
+// kind = "rigid" (the default) or "particle": a point mass has mass,
+// position and velocity only (multibody/point_mass.hpp).
+constexpr std::array<std::string_view, 2> kBodyKinds{"rigid", "particle"};
+constexpr std::array<std::string_view, 6> kParticleKeys{"name", "kind", "mass", "position", "velocity", "visual"};
 constexpr std::array<std::string_view, 3> kEulerKeys{"sequence", "convention", "angles"};
 constexpr std::array<std::string_view, 2> kAxisAngleKeys{"axis", "angle"};
-constexpr std::array<std::string_view, 12> kJointGeometryKeys{
+constexpr std::array<std::string_view, 13> kJointGeometryKeys{
     "name",    "type",    "bodies",   "frame",    "point",   "axis",
-    "axis_a",  "axis_b",  "point_a",  "point_b",  "normal_a", "normal_b"};
+    "axis_a",  "axis_b",  "point_a",  "point_b",  "normal_a", "normal_b", "length"};
 // [[joints]]'s keys: the geometry, and the keys of the force elements the
 // registered joint types carry (model/joint_type.hpp), each once.
 const std::vector<std::string_view>& joint_keys() {
@@ -93,6 +98,7 @@ std::array<SectionKeys, 10> own_sections() {
     {"springs", kSpringKeys},
     {"loads", kLoadKeys},
     {"drivers", kDriverKeys},
+    {"markers", kMarkerKeys},
   }};
 }
 
@@ -277,6 +283,7 @@ class MultibodyReader {
     read_springs(spec);
     read_loads(spec);
     read_drivers(spec);
+    read_markers(spec);
 
     read_time(r_, root_, scene);
     read_output(r_, root_, scene, kOutputPartKeys);
@@ -297,6 +304,7 @@ class MultibodyReader {
   std::vector<std::string> body_names_;
   std::map<std::string, int, std::less<>> body_index_;
   std::vector<const toml::table*> joint_tables_;
+  std::vector<bool> particle_;  // per body: a point mass
 
   // [output] bodies / joints: "all", "none" or an array of names of the
   // scene's bodies / joints (model/recorded_parts.hpp: unset is the default).
@@ -402,7 +410,8 @@ class MultibodyReader {
     const std::string name = r_.string(n, key);
     if (name == kGroundName) {
       if (!allow_ground)
-        r_.fail(n, fmt::format("'{}' = \"ground\": a load acts on a body (the ground does not move)", key));
+        r_.fail(n, fmt::format("'{}' = \"ground\": a {} is on a body (the ground does not move)", key,
+                               key.rfind("markers", 0) == 0 ? "marker" : "load"));
       return kGround;
     }
     if (const auto it = body_index_.find(name); it != body_index_.end()) return it->second;
@@ -451,6 +460,16 @@ class MultibodyReader {
       b.name = r_.string(name_node, join_key(prefix, "name"));
       check_part_name(r_, name_node, join_key(prefix, "name"), b.name);
       claim_name(&name_node, t, "body", b.name);
+      if (const toml::node* k = t.get("kind")) b.particle = r_.choice(*k, join_key(prefix, "kind"), kBodyKinds) == 1;
+      if (b.particle) {
+        read_particle(t, prefix, b);
+        poses_.push_back({b.R0_WB, b.x0_W});
+        body_index_.emplace(b.name, static_cast<int>(body_names_.size()));
+        body_names_.push_back(b.name);
+        particle_.push_back(true);
+        spec.bodies.push_back(std::move(b));
+        continue;
+      }
 
       const MassInertia mi = read_mass_inertia(r_, t, "bodies", prefix);
       b.mass = mi.mass;
@@ -497,9 +516,33 @@ class MultibodyReader {
       poses_.push_back({b.R0_WB, b.x0_W});
       body_index_.emplace(b.name, static_cast<int>(body_names_.size()));
       body_names_.push_back(b.name);
+      particle_.push_back(false);
       spec.bodies.push_back(std::move(b));
     }
   }
+
+  // A point mass: mass, position, velocity (and how to draw it); no
+  // inertia, orientation or angular velocity, which are refused by name.
+  void read_particle(const toml::table& t, const std::string& prefix, BodySpec& b) const {
+    for (const auto& [k, n] : t) {
+      if (std::find(kParticleKeys.begin(), kParticleKeys.end(), k.str()) != kParticleKeys.end()) continue;
+      r_.fail(n, fmt::format("'{}' does not apply to a particle (kind = \"particle\": a point mass has no "
+                             "inertia, orientation or angular velocity; its keys: {}); leave it out, or make the body "
+                             "kind = \"rigid\"",
+                             join_key(prefix, k.str()), quoted_list(kParticleKeys)));
+    }
+    const toml::node& mass_node = r_.required(t, "bodies", "mass", "kg, > 0");
+    b.mass = bounded_number(r_, mass_node, join_key(prefix, "mass"), 0.0, 1e12, "kg");
+    if (!(b.mass > 0.0)) r_.fail(mass_node, fmt::format("'{}' must be > 0 kg, got {}", join_key(prefix, "mass"), b.mass));
+    b.inertia_com = Mat3::Zero();
+    const toml::node& pos = r_.required(t, "bodies", "position", "[x, y, z] in m: the particle in space");
+    b.x0_W = bounded_vec3(r_, pos, join_key(prefix, "position"), kMaxLength, "m");
+    if (const toml::node* v = t.get("velocity"))
+      b.v0_W = bounded_vec3(r_, *v, join_key(prefix, "velocity"), kMaxSpeed, "m/s");
+    b.visuals = read_visuals(r_, t, "bodies", prefix, sections());
+  }
+
+  bool is_particle(int body) const { return body != kGround && particle_[static_cast<std::size_t>(body)]; }
 
   // --- mechanism -------------------------------------------------------------
 
@@ -525,9 +568,11 @@ class MultibodyReader {
     if (!n) return;
     const std::string name = top ? "expected_dof" : "mechanism.expected_dof";
     const long long v = r_.integer(*n, name);
-    const long long most = 6 * static_cast<long long>(spec.bodies.size());
+    long long most = 0;
+    for (const BodySpec& b : spec.bodies) most += b.particle ? 3 : 6;
     if (v < 0 || v > most)
-      r_.fail(*n, fmt::format("'{}' = {} must lie in [0, {}] (degrees of freedom: at most 6 per body, {} bodies)",
+      r_.fail(*n, fmt::format("'{}' = {} must lie in [0, {}] (degrees of freedom: at most 6 per body and 3 per "
+                              "particle, {} bodies)",
                               name, v, most, spec.bodies.size()));
     spec.expected_dof = static_cast<int>(v);
     spec.expected_dof_where = where(*n);
@@ -597,6 +642,12 @@ class MultibodyReader {
     std::tie(j.body_a, j.body_b) = body_pair(t, prefix, "joints");
     bool body_frame = false;
     if (const toml::node* f = t.get("frame")) body_frame = r_.choice(*f, key("frame"), kFrames) == 1;
+    check_particle_joint_type(t, j);
+    if (j.type->axes == JointAxes::TwoPoints) {
+      read_two_points(t, prefix, body_frame, j);
+      check_particle_points(t, j);
+      return j;
+    }
 
     const bool has_axis = j.type->axes == JointAxes::Axis;
     const bool universal = j.type->axes == JointAxes::CrossPins;
@@ -635,6 +686,8 @@ class MultibodyReader {
         why = "in space one 'axis' serves both bodies; 'axis_a' and 'axis_b' need frame = \"body\"";
       else if (universal && (k == "normal_a" || k == "normal_b"))
         why = "its pins 'axis_a' and 'axis_b' are normal to each other already";
+      else if (k == "length")
+        why = fmt::format("'length' is a distance joint's (a rod between 'point_a' and 'point_b')");
       else
         why = fmt::format("a {} joint has no axis", type_name);
       r_.fail(*n, fmt::format("'{}' does not apply to a {} joint{}: {} (its keys: {})", key(k), type_name,
@@ -725,7 +778,116 @@ class MultibodyReader {
       if (const toml::node* n = t.get("rest_angle"))
         j.torsion_rest_angle = bounded_number(r_, *n, key("rest_angle"), -kMaxRestAngle, kMaxRestAngle, "rad");
     }
+    check_particle_points(t, j);
     return j;
+  }
+
+  // --- joints on particles -----------------------------------------------------
+
+  // Whether a type's rows read body `side` (0: a, 1: b) through points only:
+  // a particle has a position but no orientation, so a row with a direction
+  // fixed in it (an axis, a pin, a weld's frame) cannot hold it.
+  static bool points_only(const JointType& type, int side) {
+    JointSpec probe;
+    probe.type = &type;
+    probe.body_a = side == 0 ? 0 : kGround;
+    probe.body_b = side == 0 ? kGround : 0;
+    probe.point_b = Vec3::UnitX();
+    probe.length = 1.0;
+    std::vector<ConstraintRow> rows;
+    type.rows(probe, rows);
+    for (const ConstraintRow& r : rows)
+      for (int t = 0; t < r.n_terms; ++t)
+        for (const BodyVector* v : {&r.terms[t].a, &r.terms[t].b})
+          if (v->body == 0 && !v->point) return false;
+    return true;
+  }
+
+  void check_particle_joint_type(const toml::table& t, const JointSpec& j) const {
+    for (int side = 0; side < 2; ++side) {
+      const int body = side == 0 ? j.body_a : j.body_b;
+      if (!is_particle(body) || points_only(*j.type, side)) continue;
+      std::vector<std::string_view> valid;
+      for (const JointType* type : joint_types())
+        if (points_only(*type, 0) && points_only(*type, 1)) valid.push_back(type->name);
+      const toml::node* n = t.get("type");
+      r_.fail(n ? *n : static_cast<const toml::node&>(t),
+              fmt::format("joint \"{}\" ({}) needs an orientation of {}, which is a particle (kind = \"particle\": a "
+                          "point mass has a position only); joints that can hold a particle: {}",
+                          j.name, j.type->name, body_label(body), quoted_list(valid)));
+    }
+  }
+
+  // A particle has no extent: a joint holds it at its position.
+  void check_particle_points(const toml::table& t, const JointSpec& j) const {
+    for (int side = 0; side < 2; ++side) {
+      const int body = side == 0 ? j.body_a : j.body_b;
+      if (!is_particle(body)) continue;
+      const Vec3& s = side == 0 ? j.point_a : j.point_b;
+      const Vec3 x = pose(body).x;
+      if (s.norm() <= 1e-9 * std::max(1.0, x.norm())) continue;
+      const char* k = j.type->axes == JointAxes::TwoPoints ? (side == 0 ? "point_a" : "point_b") : "point";
+      const toml::node* n = t.get(k);
+      if (!n) n = t.get(side == 0 ? "point_a" : "point_b");
+      r_.fail(n ? *n : static_cast<const toml::node&>(t),
+              fmt::format("joint \"{}\" holds {}, a particle, {} m away from it: a point mass has no extent, its "
+                          "joints act at its position {} (give that point{})",
+                          j.name, body_label(body), s.norm(), fmt_vec6(x),
+                          j.type->axes == JointAxes::TwoPoints ? fmt::format(", or leave '{}' out", k) : ""));
+    }
+  }
+
+  // A distance joint's keys: point_a, point_b (each optional on a particle:
+  // its position) and length (default: the initial distance).
+  void read_two_points(const toml::table& t, const std::string& prefix, bool body_frame, JointSpec& j) const {
+    const auto key = [&](std::string_view k) { return join_key(prefix, k); };
+    const std::vector<std::string_view> valid{"name", "type", "bodies", "frame", "point_a", "point_b", "length"};
+    for (std::string_view k : joint_keys()) {
+      const toml::node* n = t.get(k);
+      if (!n || std::find(valid.begin(), valid.end(), k) != valid.end()) continue;
+      r_.fail(*n, fmt::format("'{}' does not apply to a {} joint: it joins 'point_a' on the first body and 'point_b' on "
+                              "the second (in space at the initial pose, or frame = \"body\"), at 'length' (its keys: {})",
+                              key(k), j.type->name, quoted_list(valid)));
+    }
+    const Pose pose_of[2] = {pose(j.body_a), pose(j.body_b)};
+    const int body_of[2] = {j.body_a, j.body_b};
+    Vec3* out[2] = {&j.point_a, &j.point_b};
+    const char* names[2] = {"point_a", "point_b"};
+    for (int side = 0; side < 2; ++side) {
+      const toml::node* n = t.get(names[side]);
+      if (!n && is_particle(body_of[side])) {
+        out[side]->setZero();  // the particle's position
+        continue;
+      }
+      if (!n)
+        n = &r_.required(t, "joints", names[side],
+                         fmt::format("[x, y, z] in m, {}: the rod's end on {} (optional on a particle: its position)",
+                                     body_frame ? "in that body's frame from its centre of mass" : "in space at the initial pose",
+                                     body_label(body_of[side])));
+      const Vec3 p = bounded_vec3(r_, *n, key(names[side]), kMaxLength, "m");
+      *out[side] = body_frame ? p : Vec3(pose_of[side].R.transpose() * (p - pose_of[side].x));
+    }
+    const Vec3 pa = pose_of[0].R * j.point_a + pose_of[0].x, pb = pose_of[1].R * j.point_b + pose_of[1].x;
+    const double initial = (pb - pa).norm();
+    if (const toml::node* n = t.get("length")) {
+      j.length = bounded_number(r_, *n, key("length"), 0.0, kMaxLength, "m");
+      if (!(j.length >= kMinSpringLength))
+        r_.fail(*n, fmt::format("'{}' = {} m: a rod needs a length of at least {:g} m (for coincident points use a "
+                                "spherical joint)",
+                                key("length"), j.length, kMinSpringLength));
+    } else {
+      j.length = initial;
+      if (initial < kMinSpringLength)
+        r_.fail(t.source(), fmt::format("the ends of distance joint \"{}\" coincide at the initial pose ({:.3g} m apart): "
+                                        "give 'length', or use a spherical joint for coincident points",
+                                        j.name, initial));
+    }
+    // Unused by the row; kept unit, perpendicular and equal in space at the
+    // initial pose (the spec's invariants, as for a spherical joint).
+    j.axis_a = pose_of[0].R.transpose().col(2);
+    j.axis_b = pose_of[1].R.transpose().col(2);
+    j.normal_a = pose_of[0].R.transpose().col(0);
+    j.normal_b = pose_of[1].R.transpose().col(0);
   }
 
   // --- the joints between one pair of bodies ----------------------------------
@@ -749,7 +911,12 @@ class MultibodyReader {
     for (std::size_t k = 0; k < joint_rows.size(); ++k) {
       const DotTerm& t = joint_rows[k].terms[0];
       Row row = Row::Zero();
-      if (joint_rows[k].reaction == RowReaction::Turn) {
+      if (joint_rows[k].reaction == RowReaction::Distance) {
+        // (p_b - p_a) . (relative velocity of b's end p_b) = 0
+        const Vec3 pb = pose(j.body_b).R * j.point_b + pose(j.body_b).x;
+        const Vec3 u = (pb - (p + ref)).normalized();
+        row << u.transpose(), (pb - ref).cross(u).transpose() / L;
+      } else if (joint_rows[k].reaction == RowReaction::Turn) {
         row.tail<3>() = in_space(t.a).cross(in_space(t.b)).transpose() / L;
       } else {
         const Vec3 n = in_space(t.b);
@@ -895,6 +1062,17 @@ class MultibodyReader {
       const Vec3 b = bounded_vec3(r_, nb, key("point_b"), kMaxLength, "m");
       s.point_a = body_frame ? a : Vec3(pa.R.transpose() * (a - pa.x));
       s.point_b = body_frame ? b : Vec3(pb.R.transpose() * (b - pb.x));
+      // A particle has no extent: a spring acts at its position.
+      for (int side = 0; side < 2; ++side) {
+        const int body = side == 0 ? s.body_a : s.body_b;
+        const Vec3& off = side == 0 ? s.point_a : s.point_b;
+        const Vec3 x = pose(body).x;
+        if (is_particle(body) && off.norm() > 1e-9 * std::max(1.0, x.norm()))
+          r_.fail(side == 0 ? na : nb,
+                  fmt::format("spring \"{}\" is attached to {}, a particle, {:.6g} m away from it: a point mass has no "
+                              "extent; attach it at the particle's position {}",
+                              s.name, body_label(body), off.norm(), body_frame ? fmt_vec6(Vec3::Zero()) : fmt_vec6(x)));
+      }
       const double length = ((pb.R * s.point_b + pb.x) - (pa.R * s.point_a + pa.x)).norm();
       if (length < kMinSpringLength)
         r_.fail(nb, fmt::format("the ends of spring \"{}\" coincide at the initial pose ({:.3g} m apart), where its "
@@ -932,6 +1110,16 @@ class MultibodyReader {
       if (const toml::node* pr = t.get("profile"))
         l.profile = read_time_function(r_, *pr, key("profile"),
                                        "the factor (dimensionless) that scales 'force' and 'torque' at time t", false);
+      if (is_particle(l.body)) {
+        if (m)
+          r_.fail(*m, fmt::format("'{}': {} is a particle, which has no rotation for a torque to act on (give 'force' "
+                                  "only)",
+                                  key("torque"), body_label(l.body)));
+        if (l.body_frame)
+          r_.fail(*t.get("frame"), fmt::format("'{}' = \"body\": {} is a particle, which has no body frame (give the "
+                                               "force in space)",
+                                               key("frame"), body_label(l.body)));
+      }
       spec.loads.push_back(l);
     }
   }
@@ -988,6 +1176,36 @@ class MultibodyReader {
       d.motion = read_time_function(r_, mn, key("motion"),
                                     angle ? "the joint angle, rad" : "the joint displacement, m", true);
       spec.drivers.push_back(std::move(d));
+  // [[markers]]: name, body, point (space at the initial pose, or frame = "body").
+  void read_markers(MultibodySpec& spec) {
+    const auto list = tables("markers", false, "marker");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const toml::table& t = *list[i];
+      const std::string prefix = item("markers", i);
+      const auto key = [&](std::string_view k) { return join_key(prefix, k); };
+      r_.check_keys(t, "markers", kMarkerKeys, sections());
+      MarkerSpec mk;
+      mk.where = where(t);
+      const toml::node& name_node = r_.required(t, "markers", "name", "a name such as \"tip\" (it names the columns)");
+      mk.name = r_.string(name_node, key("name"));
+      check_part_name(r_, name_node, key("name"), mk.name);
+      claim_name(&name_node, t, "marker", mk.name);
+      mk.body = body_index(r_.required(t, "markers", "body", "the name of the body it is fixed in"), key("body"), false);
+      bool body_frame = false;
+      if (const toml::node* f = t.get("frame")) body_frame = r_.choice(*f, key("frame"), kFrames) == 1;
+      const Pose p = pose(mk.body);
+      if (const toml::node* n = t.get("point")) {
+        const Vec3 v = bounded_vec3(r_, *n, key("point"), kMaxLength, "m");
+        mk.point = body_frame ? v : Vec3(p.R.transpose() * (v - p.x));
+        if (is_particle(mk.body) && mk.point.norm() > 1e-9 * std::max(1.0, p.x.norm()))
+          r_.fail(*n, fmt::format("marker \"{}\" is on {}, a particle, {:.6g} m away from it: a point mass has no "
+                                  "extent (leave 'point' out: the marker is the particle's position)",
+                                  mk.name, body_label(mk.body), mk.point.norm()));
+      } else if (!is_particle(mk.body)) {
+        r_.required(t, "markers", "point",
+                    "[x, y, z] in m: the point, in space at the initial pose (or frame = \"body\": in the body's frame)");
+      }
+      spec.markers.push_back(mk);
     }
   }
 

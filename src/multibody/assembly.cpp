@@ -160,7 +160,7 @@ class Assembler {
     Eigen::VectorXd phi(static_cast<int>(rows_.size()));
     for (int r = 0; r < static_cast<int>(rows_.size()); ++r) {
       const ConstraintRow& row = *rows_[r].row;
-      double v = 0.0;
+      double v = row.constant;
       for (int t = 0; t < row.n_terms; ++t)
         v += row.terms[t].coeff * space_vector(row.terms[t].a, poses_).dot(space_vector(row.terms[t].b, poses_));
       phi(r) = v / rows_[r].scale;
@@ -203,7 +203,7 @@ class Assembler {
       const BodySpec& b = spec_.bodies[i];
       if (held_[i] && !velocity_level) continue;
       for (int k = 0; k < 3; ++k) trip.emplace_back(6 * i + k, 6 * i + k, 1.0 / b.mass);
-      if (held_[i]) continue;
+      if (held_[i] || b.particle) continue;  // a particle has no rotation: its angle columns stay zero
       const Mat3 Jinv = poses_[i].R * b.inertia_com.inverse() * poses_[i].R.transpose();
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) trip.emplace_back(6 * i + 3 + r, 6 * i + 3 + c, Jinv(r, c));

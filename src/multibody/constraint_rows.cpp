@@ -55,6 +55,7 @@ void evaluate_rows(const ConstraintRow* rows, int nr, const BlockSides& sides, B
   size_sides(sides, nr, out, false);
   VectorEval ea, eb;
   for (int r = 0; r < nr; ++r) {
+    out.phi(r) = rows[r].constant;
     for (int t = 0; t < rows[r].n_terms; ++t) {
       const DotTerm& term = rows[r].terms[t];
       int X, Y;

@@ -9,6 +9,7 @@
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/model/rigid_body.hpp"
+#include "rigidae/multibody/point_mass.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
 
 // Force elements: src/multibody/force_elements/ (the forces, their derivatives, potentials).
@@ -57,13 +58,19 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
     s.formulation.coordinates = bs.coordinates.value_or(scene.formulation.coordinates);
     BodyModel b;
     b.name = bs.name;
+    b.particle = bs.particle;
     b.mass = bs.mass;
     b.inertia = bs.inertia_com;
     b.coordinates = s.formulation.coordinates;
-    b.rep = make_representation(s, make_rigid_body_model(s));
-    const so3::EulerSequence seq =
-        b.rep->has_charts() ? so3::parse_euler_sequence(b.rep->chart_name(), false) : so3::EulerSequence{};
-    b.map = make_rotation_map(b.coordinates, seq);
+    if (bs.particle) {
+      b.rep = make_point_mass_rotation();
+      b.map = make_fixed_rotation_map();
+    } else {
+      b.rep = make_representation(s, make_rigid_body_model(s));
+      const so3::EulerSequence seq =
+          b.rep->has_charts() ? so3::parse_euler_sequence(b.rep->chart_name(), false) : so3::EulerSequence{};
+      b.map = make_rotation_map(b.coordinates, seq);
+    }
     b.nqr = b.rep->nq();
     b.nvr = b.rep->nv();
     b.q_group = static_cast<int>(groups_.size());
@@ -82,8 +89,11 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
   }
 
   work_.resize(bodies_.size());
+  lagrange_form_ = scene.formulation.equations == Equations::Lagrange;
   for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) {
-    work_[i].st.lagrange = scene.formulation.equations == Equations::Lagrange;
+    // A particle has no rotation velocities: the Lagrange branch of the body
+    // vectors (loops over nqr = 0) is its exact kinematics in either form.
+    work_[i].st.lagrange = lagrange_form_ || bodies_[i].particle;
     work_[i].st.nqr = bodies_[i].nqr;
     work_[i].st.nvr = bodies_[i].nvr;
   }
@@ -332,7 +342,7 @@ void MultibodyProblem::differentiate_block(int j, const double* y, const double*
 
 bool MultibodyProblem::residual(double t, const double* y, const double* yp, double* F) {
   for (BodyWork& w : work_) w.st.P.nq = 0;
-  evaluate(t, y, work_.empty() || work_[0].st.lagrange ? 2 : 1);
+  evaluate(t, y, lagrange_form_ ? 2 : 1);
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const BodyModel& b = bodies_[i];
     const BodyWork& w = work_[i];
@@ -396,7 +406,7 @@ bool MultibodyProblem::residual(double t, const double* y, const double* yp, dou
 
 void MultibodyProblem::assemble_jacobian(double t, double cj, const double* y, const double* yp,
                                          JacobianSink& sink) {
-  const bool lagrange = work_.empty() || work_[0].st.lagrange;
+  const bool lagrange = lagrange_form_;
   evaluate(t, y, lagrange ? 3 : 2);
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const BodyModel& b = bodies_[i];

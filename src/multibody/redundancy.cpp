@@ -195,7 +195,9 @@ void MultibodyProblem::find_redundant_rows(const Scene& scene, std::vector<std::
   rep.rows = static_cast<int>(refs.size());
   // Gruebler-Kutzbach: each joint removes 6 minus the freedoms its type states
   // (model/joint_type.hpp), the rows it has before any are set aside.
-  rep.gruebler_dof = 6 * static_cast<int>(bodies_.size());
+  // A particle counts 3 (it has no rotations): 3 n_p + 6 n_b - rows.
+  rep.gruebler_dof = 0;
+  for (const BodyModel& b : bodies_) rep.gruebler_dof += b.particle ? 3 : 6;
   for (const JointSpec& js : spec_.joints) rep.gruebler_dof -= 6 - js.type->freedoms.total();
   rep.gruebler_dof -= static_cast<int>(spec_.drivers.size());
   rep.rank_dof = nv_total_;

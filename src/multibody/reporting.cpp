@@ -18,6 +18,8 @@
 #include <numbers>
 
 #include "rigidae/multibody/multibody_problem.hpp"
+
+#include <span>
 #include "rigidae/so3/rotation.hpp"
 
 namespace rigidae::multibody {
@@ -100,6 +102,9 @@ JointReaction MultibodyProblem::reaction_of_rows(int joint, const ConstraintRow*
         out.torque += lambda[r] * da.cross(db);
         break;
       }
+      case RowReaction::Distance:  // (|p_b - p_a|^2 - L^2) / (2L): the tension along the rod
+        out.force -= lambda[r] * (pb - pa) / js.length;
+        break;
       case RowReaction::Coordinate: break;  // not a constraint row
     }
   }
@@ -237,6 +242,14 @@ RecordedParts every_part(std::size_t bodies, std::size_t joints) {
 
 constexpr const char* kBodyColumns[] = {"qw", "qx", "qy", "qz", "wx", "wy", "wz", "x", "y", "z", "vx", "vy", "vz"};
 constexpr const char* kBodyUnits[] = {"1", "1", "1", "1", "rad/s", "rad/s", "rad/s", "m", "m", "m", "m/s", "m/s", "m/s"};
+// A particle has no orientation: only its position and velocity columns.
+constexpr int kRotationColumns = 7;
+std::span<const char* const> body_columns(const BodyModel& b) {
+  return std::span<const char* const>(kBodyColumns).subspan(b.particle ? kRotationColumns : 0);
+}
+std::span<const char* const> body_units(const BodyModel& b) {
+  return std::span<const char* const>(kBodyUnits).subspan(b.particle ? kRotationColumns : 0);
+}
 // A joint's reaction and the residuals of its rows (|Phi|, |G v|: m for
 // point rows, 1 for angular ones), then its coordinates (joint_coordinate_columns).
 constexpr const char* kJointColumns[] = {"force_x",  "force_y",  "force_z",           "torque_x",
@@ -268,6 +281,9 @@ void joint_coordinate_columns(const MultibodySpec& spec, const std::vector<int>&
     units.push_back(angle ? "N m" : "N");
   }
 }
+// A marker's position, velocity and acceleration in space (markers.cpp).
+constexpr const char* kMarkerColumns[] = {"x", "y", "z", "vx", "vy", "vz", "ax", "ay", "az"};
+constexpr const char* kMarkerUnits[] = {"m", "m", "m", "m/s", "m/s", "m/s", "m/s^2", "m/s^2", "m/s^2"};
 constexpr const char* kGlobalColumns[] = {"energy", "p_x", "p_y", "p_z", "L_x", "L_y", "L_z"};
 constexpr const char* kGlobalUnits[] = {"J", "N s", "N s", "N s", "N m s", "N m s", "N m s"};
 
@@ -288,24 +304,30 @@ void MultibodyProblem::output_row(const double* y, double* out) {
 std::vector<std::string> MultibodyProblem::output_names(const RecordedParts& parts) const {
   std::vector<std::string> n;
   for (int i : parts.bodies)
-    for (const char* c : kBodyColumns) n.push_back(bodies_[i].name + "." + c);
+    for (const char* c : body_columns(bodies_[i])) n.push_back(bodies_[i].name + "." + c);
   std::vector<std::string> units;
   for (int j : parts.joints) {
     for (const char* c : kJointColumns) n.push_back(spec_.joints[j].name + "." + c);
     joint_coordinate_columns(spec_, drivers_of_joint_[j], j, n, units);
   }
+  for (const MarkerSpec& m : spec_.markers)
+    for (const char* c : kMarkerColumns) n.push_back(m.name + "." + c);
   for (const char* c : kGlobalColumns) n.push_back(c);
   return n;
 }
 
 std::vector<std::string> MultibodyProblem::output_units(const RecordedParts& parts) const {
   std::vector<std::string> u;
-  for (std::size_t i = 0; i < parts.bodies.size(); ++i) u.insert(u.end(), std::begin(kBodyUnits), std::end(kBodyUnits));
+  for (int i : parts.bodies) {
+    const auto units = body_units(bodies_[i]);
+    u.insert(u.end(), units.begin(), units.end());
+  }
   std::vector<std::string> names;
   for (int j : parts.joints) {
     u.insert(u.end(), std::begin(kJointUnits), std::end(kJointUnits));
     joint_coordinate_columns(spec_, drivers_of_joint_[j], j, names, u);
   }
+  for (std::size_t m = 0; m < spec_.markers.size(); ++m) u.insert(u.end(), std::begin(kMarkerUnits), std::end(kMarkerUnits));
   u.insert(u.end(), std::begin(kGlobalUnits), std::end(kGlobalUnits));
   return u;
 }
@@ -318,8 +340,11 @@ void MultibodyProblem::output_row(const double* y, const RecordedParts& parts, d
   for (int i : parts.bodies) {
     const Vec4 q = body_orientation(i, y);
     const Vec3 w = body_omega_space(i, y), x = body_position(i, y), v = body_velocity(i, y);
-    for (int c = 0; c < 4; ++c) out[k++] = q(c);
-    for (const Vec3* a : {&w, &x, &v})
+    if (!bodies_[i].particle) {
+      for (int c = 0; c < 4; ++c) out[k++] = q(c);
+      for (int c = 0; c < 3; ++c) out[k++] = w(c);
+    }
+    for (const Vec3* a : {&x, &v})
       for (int c = 0; c < 3; ++c) out[k++] = (*a)(c);
   }
   for (int j : parts.joints) {
@@ -330,6 +355,11 @@ void MultibodyProblem::output_row(const double* y, const RecordedParts& parts, d
     out[k++] = phi;
     out[k++] = phidot;
     k += write_coordinates(j, y, out + k);
+  }
+  if (!spec_.markers.empty()) {
+    marker_kinematics(y, out + k);
+    k += 9 * static_cast<int>(spec_.markers.size());
+    evaluate(0.0, y, 2);
   }
   out[k++] = kinetic_energy(y) + potential_energy(y);
   const Vec3 p = linear_momentum(y), L = angular_momentum(y);
@@ -373,6 +403,8 @@ std::vector<std::string> MultibodyProblem::step_part_names(const RecordedParts& 
     std::vector<std::string> units;
     joint_coordinate_columns(spec_, drivers_of_joint_[joint], joint, n, units);
   }
+  for (const MarkerSpec& m : spec_.markers)
+    for (const char* c : kMarkerColumns) n.push_back(m.name + "." + c);
   return n;
 }
 
@@ -389,6 +421,7 @@ std::vector<std::string> MultibodyProblem::step_part_units(const RecordedParts& 
     std::vector<std::string> names;
     joint_coordinate_columns(spec_, drivers_of_joint_[joint], joint, names, u);
   }
+  for (std::size_t m = 0; m < spec_.markers.size(); ++m) u.insert(u.end(), std::begin(kMarkerUnits), std::end(kMarkerUnits));
   return u;
 }
 
@@ -412,6 +445,7 @@ void MultibodyProblem::step_part_row(const double* y, const RecordedParts& parts
     out[k++] = phidot;
     k += write_coordinates(joint, y, out + k);
   }
+  marker_kinematics(y, out + k);
   evaluated_y_ = nullptr;
 }
 

@@ -33,7 +33,7 @@ double row_value(const ConstraintRow& r, const Pose& pa, const Pose& pb) {
     const Pose& p = v.body == 0 ? pa : pb;
     return v.point ? Vec3(p.R * v.s + p.x) : Vec3(p.R * v.s);
   };
-  double value = 0.0;
+  double value = r.constant;
   for (int t = 0; t < r.n_terms; ++t) value += r.terms[t].coeff * in_space(r.terms[t].a).dot(in_space(r.terms[t].b));
   return value;
 }
@@ -106,6 +106,10 @@ TEST_CASE("joint types: 6 - freedoms rows that hold at the assembled pose, each 
         case RowReaction::Turn:  // d_a . d_b
           CHECK(r.n_terms == 1);
           CHECK((!r.terms[0].a.point && !r.terms[0].b.point));
+          break;
+        case RowReaction::Distance:  // (|p_b - p_a|^2 - L^2) / (2L): three terms and a constant
+          CHECK(r.n_terms == 3);
+          CHECK((r.terms[0].a.point && r.terms[0].b.point && r.constant < 0.0));
           break;
         case RowReaction::Coordinate: FAIL("a constraint row marked as a coordinate"); break;
       }

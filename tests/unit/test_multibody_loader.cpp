@@ -74,7 +74,10 @@ void check_joint_geometry(const MultibodySpec& s, bool revolute_at_zero = true) 
   for (const JointSpec& j : s.joints) {
     CAPTURE(j.name);
     const Pose a = pose(s, j.body_a), b = pose(s, j.body_b);
-    CHECK((a.R * j.point_a + a.x - (b.R * j.point_b + b.x)).norm() < 1e-12);
+    if (j.type->axes == JointAxes::TwoPoints)  // a rod: its ends at its length
+      CHECK(std::abs((a.R * j.point_a + a.x - (b.R * j.point_b + b.x)).norm() - j.length) < 1e-12);
+    else
+      CHECK((a.R * j.point_a + a.x - (b.R * j.point_b + b.x)).norm() < 1e-12);
     CHECK(std::abs(j.axis_a.norm() - 1.0) < 1e-14);
     CHECK(std::abs(j.axis_b.norm() - 1.0) < 1e-14);
     CHECK(std::abs(j.normal_a.norm() - 1.0) < 1e-14);
@@ -127,6 +130,11 @@ void check_joint_velocities(const MultibodySpec& s) {
     } else if (t == "fixed") {
       CHECK(dv.norm() < tol);
       CHECK(dw.norm() < tol);
+    } else if (t == "distance") {
+      // The rod's ends p_a, p_b: no stretching rate along p_b - p_a.
+      const Vec3 pb = b.R * j.point_b + b.x;
+      const Vec3 rate = (b.v + b.w.cross(pb - b.x)) - (a.v + a.w.cross(p - a.x));
+      CHECK(std::abs(rate.dot(pb - p)) < tol * (1.0 + (pb - p).norm()));
     } else {
       FAIL("no velocity check for joint type ", t);
     }

@@ -61,6 +61,11 @@ inline JointSpec joint_at(const MultibodySpec& m, const JointType* type, int a, 
   };
   j.point_a = to_body(a, P, true);
   j.point_b = to_body(b, P, true);
+  if (type->axes == JointAxes::TwoPoints) {
+    // A rod from P to P + 0.3 z (its length at the assembled pose).
+    j.point_b = to_body(b, Vec3(P + 0.3 * z), true);
+    j.length = 0.3;
+  }
   j.axis_a = to_body(a, z, false);
   j.normal_a = to_body(a, n, false);
   // Universal: the cross pins are perpendicular.

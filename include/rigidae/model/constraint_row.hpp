@@ -1,6 +1,7 @@
 #pragma once
-// A constraint row as plain data: a sum of (at most two) terms c (alpha . beta),
-// alpha and beta vectors fixed in a body (or in space, for the ground).
+// A constraint row as plain data: a constant plus a sum of (at most three)
+// terms c (alpha . beta), alpha and beta vectors fixed in a body (or in space,
+// for the ground). alpha and beta may be the same vector (a squared length).
 //
 // A body vector is a point p = x + R s or a direction d = R s, s fixed in the
 // body (from its centre of mass); for the ground (kGround) s is constant in
@@ -14,6 +15,9 @@
 //              the force -lambda n on body b (N)
 //   Turn       d_a . d_b (perpendicular directions):
 //              the torque lambda (d_a x d_b) on body b (N m)
+//   Distance   ((p_b - p_a) . (p_b - p_a) - L^2) / (2 L) (a rod of length L):
+//              the force -lambda (p_b - p_a) / L on body b (N): lambda is
+//              the rod's tension (three terms and the constant -L/2)
 //   Coordinate a joint coordinate's cosine, sine or displacement row (not a
 //              constraint: read by joint coordinates and torsion springs)
 #include <string>
@@ -37,12 +41,13 @@ struct DotTerm {
   BodyVector a, b;
 };
 
-enum class RowReaction { Point, Line, Turn, Coordinate };
+enum class RowReaction { Point, Line, Turn, Distance, Coordinate };
 
 struct ConstraintRow {
   std::string name;  // e.g. "x", "axis_n1": names the multiplier's columns
-  DotTerm terms[2];
+  DotTerm terms[3];
   int n_terms = 1;
+  double constant = 0.0;  // added to the terms' sum
   RowReaction reaction = RowReaction::Coordinate;
 };
 

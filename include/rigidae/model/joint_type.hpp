@@ -37,7 +37,10 @@ struct JointSpec;
 //   Axis       one axis, fixed in both bodies (`axis`, or `axis_a`, `axis_b`
 //              with frame = "body"), and optionally `normal_a`, `normal_b`
 //   CrossPins  two perpendicular pins, `axis_a` fixed in a and `axis_b` in b
-enum class JointAxes { Point, Axis, CrossPins };
+//   TwoPoints  two points, `point_a` on a and `point_b` on b (in space at the
+//              initial pose, or in the bodies' frames), and a `length`
+//              (distance: a rod between them)
+enum class JointAxes { Point, Axis, CrossPins, TwoPoints };
 
 struct JointFreedoms {
   int rotational = 0, translational = 0;

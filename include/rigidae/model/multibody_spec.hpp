@@ -35,8 +35,12 @@ struct SourcePosition {
 
 struct BodySpec {
   std::string name;
+  // A point mass ([[bodies]] kind = "particle"): mass and position only, no
+  // rotation coordinates; inertia_com is zero, R0_WB the identity, omega0_B
+  // zero (multibody/point_mass.hpp).
+  bool particle = false;
   double mass = 1.0;                    // kg, > 0
-  Mat3 inertia_com = Mat3::Identity();  // kg m^2 about the centre of mass, body axes, SPD
+  Mat3 inertia_com = Mat3::Identity();  // kg m^2 about the centre of mass, body axes, SPD (zero for a particle)
   // Initial state.
   Vec3 x0_W = Vec3::Zero();        // m, centre of mass in space
   Mat3 R0_WB = Mat3::Identity();   // an exact rotation after loading
@@ -71,6 +75,9 @@ struct JointSpec {
   // prismatic and fixed joints to stop the rotation about the axis, and as the
   // zero of a revolute joint's angle (unit, normal_a . axis_a = 0).
   Vec3 normal_a = Vec3::UnitX(), normal_b = Vec3::UnitX();
+  // A distance joint's rod length |p_b - p_a| (m, > 0); the loader's default
+  // is the distance at the initial pose.
+  double length = 0.0;
   // Torsional spring-damper in a revolute joint: torque -k (theta - theta0) - c theta'.
   double torsion_stiffness = 0.0;  // N m / rad
   double torsion_damping = 0.0;    // N m s / rad
@@ -113,6 +120,16 @@ struct DriverSpec {
   SourcePosition where;
 };
 
+// A marker ([[markers]]): a named point fixed in a body, whose position,
+// velocity and acceleration in space are output columns MARKER.x..z,
+// MARKER.vx..vz, MARKER.ax..az (issue 22 item 5).
+struct MarkerSpec {
+  std::string name;
+  int body = 0;                // index into bodies (never the ground)
+  Vec3 point = Vec3::Zero();   // body frame, from the centre of mass (zero on a particle)
+  SourcePosition where;
+};
+
 // An assembled start ([mechanism] assemble / hold): the bodies' initial poses
 // and velocities are guesses that the start moves onto the joints, keeping the
 // held bodies' as given (multibody/assembly.hpp).
@@ -128,6 +145,7 @@ struct MultibodySpec {
   std::vector<SpringSpec> springs;
   std::vector<BodyLoadSpec> loads;
   std::vector<DriverSpec> drivers;
+  std::vector<MarkerSpec> markers;
   Vec3 gravity_W = Vec3(0, 0, -9.81);  // m/s^2
   // Largest position-level joint miss at the start that is projected (with a
   // warning) rather than refused; larger misses are an error naming the joint.

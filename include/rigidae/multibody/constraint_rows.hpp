@@ -1,11 +1,15 @@
 #pragma once
 // Joint constraint rows as sums of dot products of body vectors.
 //
-// Every primitive of multibody.md is a sum of terms c (alpha . beta), alpha
-// and beta body vectors (points, directions, or constants of the ground):
+// Every primitive of multibody.md is a constant plus a sum of terms
+// c (alpha . beta), alpha and beta body vectors (points, directions, or
+// constants of the ground):
 //   coincident points, row k:  p_a . e_k - p_b . e_k
 //   perpendicular directions:  d_a . d_b
 //   point on a line, row i:    p_b . n_i - p_a . n_i   (n_i fixed in a)
+//   distance (rod of length L): (p_b.p_b - 2 p_a.p_b + p_a.p_a) / (2L) - L/2
+// (alpha = beta in a squared length: the rules below hold with X = Y and
+// both sides' contributions added, which is the product rule).
 // So one derivation serves them all. For a term with alpha on body X and
 // beta on body Y (X = Y allowed; a constant contributes no derivatives):
 //   Phi   += c a.b

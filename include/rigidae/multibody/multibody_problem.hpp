@@ -74,6 +74,7 @@ namespace rigidae::multibody {
 
 struct BodyModel {
   std::string name;
+  bool particle = false;  // a point mass: rep and map are the empty rotation block (point_mass.hpp)
   double mass = 1.0;
   Mat3 inertia;  // about the centre of mass, body axes
   Coordinates coordinates;
@@ -196,8 +197,9 @@ class MultibodyProblem final : public DaeProblem {
   // BODY.x .. z, BODY.vx .. vz), per joint (JOINT.force_x .. z, JOINT.torque_x
   // .. z on body b in space, JOINT.residual_position = |Phi|,
   // JOINT.residual_velocity = |G v|, then per coordinate of its type
-  // JOINT.<coordinate>, JOINT.<coordinate>_rate), then
-  // energy, linear momentum p_x .. p_z and angular momentum L_x .. L_z about
+  // JOINT.<coordinate>, JOINT.<coordinate>_rate), per marker MARKER.x..z,
+  // .vx..vz, .ax..az (markers.cpp; a particle: only BODY.x..z, BODY.vx..vz),
+  // then energy, linear momentum p_x .. p_z and angular momentum L_x .. L_z about
   // the origin. Names and units in the same order.
   std::vector<std::string> output_names() const;
   std::vector<std::string> output_units() const;
@@ -214,7 +216,9 @@ class MultibodyProblem final : public DaeProblem {
   // (as output_row). `parts` lists bodies and joints in the scene's order.
   std::vector<std::string> step_part_names(const RecordedParts& parts) const;
   std::vector<std::string> step_part_units(const RecordedParts& parts) const;
-  // Fills out[0 .. step_part_names(parts).size()); allocates nothing.
+  // Fills out[0 .. step_part_names(parts).size()); allocates nothing unless
+  // the scene has markers (their accelerations are solved per row), whose
+  // columns MARKER.x..az come last.
   void step_part_row(const double* y, const RecordedParts& parts, double* out);
   // Joint coordinates (model/joint_type.hpp): the coordinates of joint j,
   // in its type's order, at y: values (rad, unwrapped against the branch
@@ -234,6 +238,12 @@ class MultibodyProblem final : public DaeProblem {
   // Whether anything does work that work_rate counts (drivers, or force
   // elements without a potential that report their power).
   bool has_work() const;
+  // Markers (src/multibody/markers.cpp): per marker of the spec, in order,
+  // position (m), velocity (m/s) and acceleration (m/s^2) in space, 9
+  // numbers each, into out; the accelerations solved from the state y.
+  // Not the hot path: one sparse factorisation per call (the output row's
+  // and the step row's MARKER.x..az).
+  void marker_kinematics(const double* y, double* out);
   // Position- and velocity-level drift over all blocks (max norms).
   std::pair<double, double> drift(double t, const double* y);
   // Projects y onto Phi = 0 (Gauss-Newton, least change in the mass metric)
@@ -323,6 +333,7 @@ class MultibodyProblem final : public DaeProblem {
   std::string row_label(int block, int row) const;
 
   MultibodySpec spec_;
+  bool lagrange_form_ = true;  // the scene's equations (a particle's BodyState is always on the Lagrange branch)
   AssemblyReport assembly_;
   BlockScheme scheme_;
   double switch_threshold_ = 0.1;
@@ -354,6 +365,7 @@ class MultibodyProblem final : public DaeProblem {
   std::vector<int> first_coordinate_;          // per joint, into coordinates_ (size joints + 1)
   BlockEval coordinate_eval_;
   Eigen::VectorXd y0_, yp0_;
+  Eigen::VectorXd marker_y_, marker_yp_;  // marker_kinematics' state and its solved y'
   std::vector<std::string> warnings_;
   RedundancyReport redundancy_;
   std::vector<std::vector<int>> dropped_of_joint_;  // indices into redundancy_.dropped

@@ -55,6 +55,20 @@ void no_turn(const JointSpec& j, std::vector<ConstraintRow>& rows) {
   perpendicular("turn", j.body_a, j.normal_a, j.body_b, j.axis_b.cross(j.normal_b), rows);
 }
 
+void fixed_distance(const JointSpec& j, std::vector<ConstraintRow>& rows) {
+  const double L = j.length;
+  const BodyVector pa = point(j.body_a, j.point_a), pb = point(j.body_b, j.point_b);
+  ConstraintRow r;
+  r.name = "rod";
+  r.terms[0] = {0.5 / L, pb, pb};
+  r.terms[1] = {-1.0 / L, pa, pb};
+  r.terms[2] = {0.5 / L, pa, pa};
+  r.n_terms = 3;
+  r.constant = -0.5 * L;
+  r.reaction = RowReaction::Distance;
+  rows.push_back(r);
+}
+
 void angle_of(int body_a, const Vec3& w_a, const Vec3& u_a, int body_b, const Vec3& v_b, ConstraintRow out[2]) {
   out[0] = ConstraintRow{};
   out[0].name = "cos";

@@ -7,6 +7,10 @@
 //   parallel_axes      z_a . n_b = 0, z_a . (z_b x n_b) = 0             2
 //   no_turn            n_a . (z_b x n_b) = 0 (no rotation about z)      1
 //   perpendicular      d_a . d_b = 0                                    1
+//   fixed_distance     (|p_b - p_a|^2 - L^2) / (2L) = 0                 1
+//                      (as dot products: (p_b.p_b - 2 p_a.p_b + p_a.p_a)
+//                      / (2L) - L/2; it reads |p_b - p_a| - L to first
+//                      order, so its multiplier is the rod's tension in N)
 // Row names ("x", "line_n1", "axis_n2", "turn", ...) name the multipliers'
 // output columns: keep them stable.
 // Coordinate rows (model/joint_type.hpp, JointCoordinate):
@@ -23,6 +27,7 @@ void coincident_points(const JointSpec& j, std::vector<ConstraintRow>& rows);
 void point_on_line(const JointSpec& j, std::vector<ConstraintRow>& rows);
 void parallel_axes(const JointSpec& j, std::vector<ConstraintRow>& rows);
 void no_turn(const JointSpec& j, std::vector<ConstraintRow>& rows);
+void fixed_distance(const JointSpec& j, std::vector<ConstraintRow>& rows);
 void perpendicular(const char* name, int body_a, const Vec3& da, int body_b, const Vec3& db,
                    std::vector<ConstraintRow>& rows);
 

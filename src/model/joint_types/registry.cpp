@@ -14,6 +14,7 @@ const JointType& universal_joint();
 const JointType& prismatic_joint();
 const JointType& cylindrical_joint();
 const JointType& fixed_joint();
+const JointType& distance_joint();
 
 const std::vector<const JointType*>& joint_types() {
   static const std::vector<const JointType*> kTypes{
@@ -23,6 +24,7 @@ const std::vector<const JointType*>& joint_types() {
       &prismatic_joint(),
       &cylindrical_joint(),
       &fixed_joint(),
+      &distance_joint(),
   };
   return kTypes;
 }
