@@ -86,7 +86,7 @@ constexpr std::array<std::string_view, 3> kDriverKeys{"joint", "coordinate", "mo
 constexpr std::array<std::string_view, 2> kOutputPartKeys{"bodies", "joints"};
 
 // Schema 2's own tables; the shared ones are added from scene_loader.cpp.
-std::array<SectionKeys, 10> own_sections() {
+std::array<SectionKeys, 11> own_sections() {
   return {{
     {"", kRootKeys},
     {"mechanism", kMechanismKeys},
@@ -104,7 +104,7 @@ std::array<SectionKeys, 10> own_sections() {
 
 const std::vector<SectionKeys>& sections() {
   static const std::vector<SectionKeys> all = [] {
-    const std::array<SectionKeys, 10> own = own_sections();
+    const std::array<SectionKeys, 11> own = own_sections();
     std::vector<SectionKeys> v(own.begin(), own.end());
     const auto shared = shared_sections();
     v.insert(v.end(), shared.begin(), shared.end());
@@ -1176,6 +1176,9 @@ class MultibodyReader {
       d.motion = read_time_function(r_, mn, key("motion"),
                                     angle ? "the joint angle, rad" : "the joint displacement, m", true);
       spec.drivers.push_back(std::move(d));
+    }
+  }
+
   // [[markers]]: name, body, point (space at the initial pose, or frame = "body").
   void read_markers(MultibodySpec& spec) {
     const auto list = tables("markers", false, "marker");
