@@ -90,7 +90,7 @@ SparseL scaled_transpose(const std::vector<ForceRowRef>& rows, const std::vector
     const ForceRowRef& f = rows[c];
     if (f.joint < 0) {
       const MatCV& G = *internal_G(f.body);
-      const int o = velocity_offset[f.body] + 3;
+      const int o = velocity_offset[f.body] + bodies[f.body].nx;
       for (int k = 0; k < bodies[f.body].nvr; ++k)
         if (G(f.index, k) != 0.0) trip.emplace_back(o + k, c, G(f.index, k));
       continue;
@@ -131,10 +131,10 @@ void MultibodyProblem::physical_start(Eigen::VectorXd& y) const {
     VecV v;
     b.rep->from_physical(bs.R0_WB, bs.omega0_B, q, v);
     const int qo = groups_[b.q_group].offset, vo = groups_[b.v_group].offset;
-    y.segment(qo, 3) = bs.x0_W;
-    y.segment(qo + 3, b.nqr) = q;
-    y.segment(vo, 3) = bs.v0_W;
-    y.segment(vo + 3, b.nvr) = v;
+    y.segment(qo, b.nx) = bs.x0_W.head(b.nx);  // a pivoted body has no x
+    y.segment(qo + b.nx, b.nqr) = q;
+    y.segment(vo, b.nx) = bs.v0_W.head(b.nx);
+    y.segment(vo + b.nx, b.nvr) = v;
   }
 }
 
@@ -177,6 +177,8 @@ void MultibodyProblem::find_redundant_rows(const Scene& scene, std::vector<std::
   // Gruebler-Kutzbach: each joint removes 6 minus the freedoms its type states
   // (model/joint_type.hpp), the rows it has before any are set aside.
   rep.gruebler_dof = 6 * static_cast<int>(bodies_.size());
+  for (const BodyModel& b : bodies_)
+    if (b.pivoted()) rep.gruebler_dof -= 3;  // a pivot holds like a spherical joint to the ground
   for (const JointSpec& js : spec_.joints) rep.gruebler_dof -= 6 - js.type->freedoms.total();
   rep.rank_dof = nv_total_;
   if (refs.empty()) return;
@@ -325,15 +327,15 @@ void MultibodyProblem::check_redundant_rows(double t0) {
       if (pass == 1) {
         for (std::size_t i = 0; i < bodies_.size(); ++i) {
           const UnknownGroup& g = groups_[bodies_[i].v_group];
-          for (int k = 0; k < g.size; ++k) y(g.offset + k) = normal(rng) * (k < 3 ? L : 1.0);
+          for (int k = 0; k < g.size; ++k) y(g.offset + k) = normal(rng) * (k < bodies_[i].nx ? L : 1.0);
         }
         project(t0, y, yp);
       }
       double s = 0.0;
       for (const BodyModel& b : bodies_) {
         const UnknownGroup& g = groups_[b.q_group];
-        s = std::max(s, yp.segment(g.offset, 3).norm() / L);
-        if (b.nqr > 0) s = std::max(s, yp.segment(g.offset + 3, b.nqr).cwiseAbs().maxCoeff());
+        if (b.nx > 0) s = std::max(s, yp.segment(g.offset, b.nx).norm() / L);
+        if (b.nqr > 0) s = std::max(s, yp.segment(g.offset + b.nx, b.nqr).cwiseAbs().maxCoeff());
       }
       if (!(s > 1e-12) || !std::isfinite(s)) continue;
       const double h = kNearbyStep / s;
