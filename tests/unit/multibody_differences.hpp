@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "rigidae/multibody/multibody_problem.hpp"
 
@@ -45,6 +46,17 @@ inline Eigen::MatrixXd richardson_matrix(multibody::MultibodyProblem& p, double 
     J.col(j) += cj * (4.0 * difference(yyp, j, 0.5 * dp, true) - difference(yyp, j, dp, true)) / 3.0;
   }
   return J;
+}
+
+// A state off the start: each entry of y and y' moved by up to 5 % of
+// max(1, |entry|), uniformly at random (the matrices must hold off the
+// constraint manifold too).
+inline void perturb_state(std::mt19937& rng, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (Eigen::Index i = 0; i < y.size(); ++i) {
+    y(i) += 0.05 * u(rng) * std::max(1.0, std::abs(y(i)));
+    yp(i) += 0.05 * u(rng) * std::max(1.0, std::abs(yp(i)));
+  }
 }
 
 }  // namespace rigidae::test

@@ -75,14 +75,9 @@ void check_matrix(const Scene& s, double& worst) {
   const double scale = std::max({1.0, y.cwiseAbs().maxCoeff(), yp.cwiseAbs().maxCoeff()});
   CHECK(F.cwiseAbs().maxCoeff() < 1e-10 * scale);
   std::mt19937 rng(77);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int k = 0; k < 2; ++k) {
     Eigen::VectorXd yk = y, ypk = yp;
-    if (k == 1)
-      for (int i = 0; i < n; ++i) {
-        yk(i) += 0.05 * u(rng) * std::max(1.0, std::abs(y(i)));
-        ypk(i) += 0.05 * u(rng) * std::max(1.0, std::abs(yp(i)));
-      }
+    if (k == 1) test::perturb_state(rng, yk, ypk);
     const double cj = k == 0 ? 3.7 : 250.0;
     Eigen::MatrixXd dense(n, n);
     p.iteration_matrix_dense(0.2, cj, yk.data(), ypk.data(), dense.data());

@@ -42,7 +42,6 @@ constexpr double kMatrixTolerance = 1e-8;
 
 TEST_CASE("multibody: exact iteration matrix = differences, every joint x representation x form x scheme" * doctest::test_suite("slow")) {
   std::mt19937 rng(4242);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
   double worst = 0.0, worst_start_residual = 0.0;
   for (const JointType* jt : joint_types())  // every registered type (model/joint_type.hpp)
     for (Coordinates c : kCoordinates)
@@ -63,11 +62,7 @@ TEST_CASE("multibody: exact iteration matrix = differences, every joint x repres
           CHECK(F.cwiseAbs().maxCoeff() < 1e-10 * scale);
           for (int k = 0; k < 2; ++k) {
             Eigen::VectorXd yk = y, ypk = yp;
-            if (k == 1)
-              for (int i = 0; i < n; ++i) {
-                yk(i) += 0.05 * u(rng) * std::max(1.0, std::abs(y(i)));
-                ypk(i) += 0.05 * u(rng) * std::max(1.0, std::abs(yp(i)));
-              }
+            if (k == 1) test::perturb_state(rng, yk, ypk);
             const double cj = k == 0 ? 3.7 : 250.0;
             Eigen::MatrixXd dense(n, n);
             p.iteration_matrix_dense(0.2, cj, yk.data(), ypk.data(), dense.data());
@@ -161,7 +156,6 @@ Scene particle_chain(Coordinates c, Equations e, const std::string& scheme) {
 
 TEST_CASE("multibody: particles: exact iteration matrix = differences, every representation x form x scheme") {
   std::mt19937 rng(2211);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
   double worst = 0.0;
   for (Coordinates c : kCoordinates)
     for (Equations e : kEquations)
@@ -182,11 +176,7 @@ TEST_CASE("multibody: particles: exact iteration matrix = differences, every rep
         CHECK(F.cwiseAbs().maxCoeff() < 1e-10 * scale);
         for (int k = 0; k < 2; ++k) {
           Eigen::VectorXd yk = y, ypk = yp;
-          if (k == 1)
-            for (int i = 0; i < n; ++i) {
-              yk(i) += 0.05 * u(rng) * std::max(1.0, std::abs(y(i)));
-              ypk(i) += 0.05 * u(rng) * std::max(1.0, std::abs(yp(i)));
-            }
+          if (k == 1) test::perturb_state(rng, yk, ypk);
           const double cj = k == 0 ? 3.7 : 250.0;
           Eigen::MatrixXd dense(n, n);
           p.iteration_matrix_dense(0.2, cj, yk.data(), ypk.data(), dense.data());

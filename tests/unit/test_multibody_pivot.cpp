@@ -71,7 +71,6 @@ Scene pivoted_chain(const JointType* type, Coordinates c, Equations e, const std
 // The exact matrix against differences at the start and at a perturbed
 // state; returns the largest row-relative difference.
 double matrix_difference(MultibodyProblem& p, std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
   const int n = p.size();
   Eigen::VectorXd y, yp;
   p.initial_state(0.0, y, yp);
@@ -82,11 +81,7 @@ double matrix_difference(MultibodyProblem& p, std::mt19937& rng) {
   double worst = 0.0;
   for (int k = 0; k < 2; ++k) {
     Eigen::VectorXd yk = y, ypk = yp;
-    if (k == 1)
-      for (int i = 0; i < n; ++i) {
-        yk(i) += 0.05 * u(rng) * std::max(1.0, std::abs(y(i)));
-        ypk(i) += 0.05 * u(rng) * std::max(1.0, std::abs(yp(i)));
-      }
+    if (k == 1) test::perturb_state(rng, yk, ypk);
     const double cj = k == 0 ? 3.7 : 250.0;
     Eigen::MatrixXd dense(n, n);
     p.iteration_matrix_dense(0.2, cj, yk.data(), ypk.data(), dense.data());
