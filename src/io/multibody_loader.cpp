@@ -796,16 +796,22 @@ class MultibodyReader {
       if (const toml::node* n = t.get("rest_angle"))
         j.torsion_rest_angle = bounded_number(r_, *n, key("rest_angle"), -kMaxRestAngle, kMaxRestAngle, "rad");
     }
-    // A motor's keys (the same element: a torque about the joint's axis).
-    if (carried("motor_torque")) {
-      const toml::node* torque = t.get("motor_torque");
-      if (torque) j.motor_torque = bounded_number(r_, *torque, key("motor_torque"), -kMaxForce, kMaxForce, "N m");
+    // A motor's keys: a torque about the axis (motor_torque: the torsional
+    // element) or a force along it (motor_force: joint_force.cpp), scaled by
+    // motor_profile.
+    if (carried("motor_torque") || carried("motor_force")) {
+      const bool torque = carried("motor_torque");
+      const std::string amount = torque ? "motor_torque" : "motor_force";
+      const char* unit = torque ? "N m" : "N";
+      const toml::node* n = t.get(amount);
+      if (n) (torque ? j.motor_torque : j.motor_force) = bounded_number(r_, *n, key(amount), -kMaxForce, kMaxForce, unit);
       if (const toml::node* pr = t.get("motor_profile")) {
-        if (!torque)
-          r_.fail(*pr, fmt::format("'{}' scales 'motor_torque', which {} does not give (N m, on b about the axis)",
-                                   key("motor_profile"), prefix));
-        j.motor_profile = read_time_function(r_, *pr, key("motor_profile"),
-                                             "the factor (dimensionless) that scales 'motor_torque' at time t", false);
+        if (!n)
+          r_.fail(*pr, fmt::format("'{}' scales '{}', which {} does not give ({}, on b {} the axis)", key("motor_profile"),
+                                   amount, prefix, unit, torque ? "about" : "along"));
+        j.motor_profile = read_time_function(
+            r_, *pr, key("motor_profile"), fmt::format("the factor (dimensionless) that scales '{}' at time t", amount),
+            false);
       }
     }
     check_particle_points(t, j);

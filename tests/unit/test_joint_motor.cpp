@@ -1,5 +1,7 @@
-// A motor in a revolute joint (keys motor_torque, motor_profile): the torque
-// tau(t) = tau_m s(t) on b about the axis and -tau(t) on a.
+// Motors in joints: a revolute joint's torque (keys motor_torque,
+// motor_profile) tau(t) = tau_m s(t) on b about the axis and -tau(t) on a; a
+// prismatic joint's force (motor_force, motor_profile) F(t) = F_m s(t) on b
+// along the axis and -F(t) on a.
 //
 // Truth: two free bodies in space (no gravity), their centres of mass on the
 // hinge's axis z and z a principal axis of both, at rest, driven against
@@ -11,7 +13,10 @@
 // end: turns counted even where one step turns the joint by more than pi);
 // the total angular momentum stays zero (action and reaction) and the energy
 // balance, with the motor's work integrated, holds. Every representation in
-// both forms.
+// both forms. The linear motor likewise: the same bodies on a prismatic
+// joint along z, pushed apart by F(t),
+//   d(t) = F_m (1/m_a + 1/m_b) (t^2/2 + t^3/3 - t^4/24),
+// the joint's recorded displacement, with the total linear momentum zero.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -73,6 +78,24 @@ atol = 1e-10
 )";
 }
 
+// The pair on a slider along z instead, pushed apart by 1.2 N x s(t).
+std::string slider_scene(const std::string& coordinates, const std::string& equations) {
+  std::string text = motor_scene(coordinates, equations);
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    REQUIRE(text.find(from) != std::string::npos);
+    text.replace(text.find(from), from.size(), to);
+  };
+  replace("name = \"hinge\"\ntype = \"revolute\"", "name = \"slider\"\ntype = \"prismatic\"");
+  replace("motor_torque = 0.8", "motor_force = 1.2");
+  return text;
+}
+
+constexpr double kForce = 1.2, kMa = 2.0, kMb = 1.5;  // N, kg
+
+double exact_displacement(double t) {
+  return kForce * (1.0 / kMa + 1.0 / kMb) * (t * t / 2 + t * t * t / 3 - t * t * t * t / 24);
+}
+
 double exact_angle(double t) { return kTau * (1.0 / kIa + 1.0 / kIb) * (t * t / 2 + t * t * t / 3 - t * t * t * t / 24); }
 
 }  // namespace
@@ -116,6 +139,36 @@ TEST_CASE("joint motor: two bodies driven against each other turn by the closed 
     }
 }
 
+TEST_CASE("linear motor: two bodies pushed apart along a slider move by the closed form, every representation and form") {
+  for (const char* coords : {"quaternion", "linear", "euler"})
+    for (const char* eq : {"euler", "lagrange"}) {
+      CAPTURE(coords);
+      CAPTURE(eq);
+      const Scene s = io::parse_scene(slider_scene(coords, eq), "motor_slider.toml");
+      const auto dir = test::fresh_temp_dir(std::string("linear_motor_") + coords + "_" + eq);
+      const SolveOutcome o = solve_scene(s, dir);
+      REQUIRE(o.run.status == RunStatus::Success);
+      const auto rows = test::read_csv_rows(dir / "trajectory.csv");
+      REQUIRE(rows.size() == 41);
+      double miss = 0.0, momentum = 0.0;
+      for (const auto& r : rows) {
+        const double t = std::stod(r.at("t"));
+        miss = std::max(miss, std::abs(std::stod(r.at("slider.displacement")) - exact_displacement(t)));
+        momentum = std::max(momentum, std::abs(std::stod(r.at("p_z"))));
+      }
+      MESSAGE("displacement off by " << miss << " m (of " << exact_displacement(2.0) << "), |p_z| <= " << momentum
+                                     << " N s, energy balance " << o.drifts.energy << " (tolerance "
+                                     << o.drifts.tolerance << ")");
+      CHECK(miss < 1e-8);
+      CHECK(momentum < 1e-8);
+      // The motor's work is counted: the balance applies and holds (the
+      // bodies only translate, at rates polynomial in t).
+      REQUIRE(o.drifts.energy == o.drifts.energy);
+      CHECK(o.drifts.energy < 10.0 * o.drifts.tolerance);
+      for (const AccuracyWarning& w : o.warnings) CHECK(w.quantity != "energy");
+    }
+}
+
 TEST_CASE("joint motor: misplaced keys are positioned errors naming what is valid") {
   const std::string base = motor_scene("quaternion", "euler");
   const auto error_of = [](const std::string& text) {
@@ -138,6 +191,12 @@ TEST_CASE("joint motor: misplaced keys are positioned errors naming what is vali
   const std::string e2 = error_of(prismatic);
   CHECK(e2.find("motor_pair.toml:22:") != std::string::npos);
   CHECK(e2.find("only 'revolute' joints carry") != std::string::npos);
+  // A torque on a slider: it carries a force.
+  CHECK(e2.find("'joints[0].motor_torque'") != std::string::npos);
+  const std::string e3 = error_of(slider_scene("quaternion", "euler").replace(
+      slider_scene("quaternion", "euler").find("motor_force = 1.2"), 17, "motor_force = \"strong\""));
+  CHECK(e3.find("motor_pair.toml:22:") != std::string::npos);
+  CHECK(e3.find("'joints[0].motor_force'") != std::string::npos);
 }
 
 TEST_SUITE_END();

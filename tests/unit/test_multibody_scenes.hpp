@@ -122,6 +122,12 @@ inline Scene two_body_chain(const JointType* type, Coordinates c, Equations e, c
     m.joints[1].motor_torque = 0.6;
     m.joints[1].motor_profile = polynomial_function({1.0, 0.5, -0.25});
   }
+  if (type == &joint_type("prismatic")) {
+    // A linear motor whose force varies in time (its matrix part is through
+    // the displacement's direction alone).
+    m.joints[1].motor_force = 4.0;
+    m.joints[1].motor_profile = polynomial_function({1.0, -0.5, 0.25});
+  }
   SpringSpec sp;
   sp.name = "spring";
   sp.body_a = 0;

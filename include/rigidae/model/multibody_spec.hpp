@@ -97,7 +97,10 @@ struct JointSpec {
   // axis in the angle's positive sense (and its opposite on a), s the
   // profile (unset: 1).
   double motor_torque = 0.0;              // N m
-  std::optional<TimeFunction> motor_profile;
+  // A linear motor in a prismatic joint: the force motor_force s(t) on b
+  // along the axis (and its opposite on a).
+  double motor_force = 0.0;               // N
+  std::optional<TimeFunction> motor_profile;  // s(t) of either motor
   std::optional<JointLimits> limits;  // data only (URDF), never enforced
   SourcePosition where;
 };

@@ -6,12 +6,18 @@
 //             along the axis from a's; zero at the initial pose with
 //             frame = "space" (one point), else where the points coincide
 //   reaction  force on b normal to the axis (N) and the full torque on b (N m)
+// It carries a linear motor (src/multibody/force_elements/joint_force.cpp)
+// under the keys motor_force, motor_profile.
+#include <array>
+
 #include "primitives.hpp"
 #include "rigidae/model/joint_type.hpp"
 
 namespace rigidae {
 
 namespace {
+constexpr std::array<std::string_view, 2> kMotorKeys{"motor_force", "motor_profile"};
+
 constexpr JointCoordinate kCoordinates[] = {{"displacement", CoordinateKind::Length, joint_rows::slide_along_axis}};
 
 void rows(const JointSpec& j, std::vector<ConstraintRow>& out) {
@@ -27,7 +33,7 @@ const JointType& prismatic_joint() {
       .description = "a slider: slides along the axis without turning",
       .axes = JointAxes::Axis,
       .freedoms = {0, 1},
-      .force_keys = {},
+      .force_keys = kMotorKeys,
       .rows = rows,
       .reaction = "force on b normal to the axis (N) and torque on b (N m)",
       .coordinates = kCoordinates,

@@ -10,6 +10,7 @@ void add_gravity(const MultibodySpec&, ForceElements&);
 void add_body_loads(const MultibodySpec&, ForceElements&);
 void add_springs(const MultibodySpec&, ForceElements&);
 void add_torsion_springs(const MultibodySpec&, ForceElements&);
+void add_joint_forces(const MultibodySpec&, ForceElements&);
 
 namespace {
 using AddElements = void (*)(const MultibodySpec&, ForceElements&);
@@ -18,6 +19,7 @@ constexpr AddElements kForceElements[] = {
     add_body_loads,
     add_springs,
     add_torsion_springs,
+    add_joint_forces,
 };
 }  // namespace
 
