@@ -410,8 +410,6 @@ void IdaRun::start() {
   if (opt_.jacobian != "ida_dq") check(IDASetJacFn(mem, jacobian_callback), "IDASetJacFn");
   check(IDASetMaxOrd(mem, opt_.max_order), "IDASetMaxOrd");
   check(IDASetStopTime(mem, span_.end), "IDASetStopTime");
-  if (const double d = problem_.matrix_refresh_cj_change(); d != 0.25)  // else IDA's default, untouched
-    check(IDASetDeltaCjLSetup(mem, d), "IDASetDeltaCjLSetup");
   const double h0 = opt_.initial_step > 0 ? opt_.initial_step
                                           : first_step_estimate(problem_, t_, y_, yp_, opt_, span_.end - span_.start);
   check(IDASetInitStep(mem, h0), "IDASetInitStep");

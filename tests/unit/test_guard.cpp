@@ -9,9 +9,7 @@
 // numbers changes what users see and must say why.
 //
 // tests/guard/pinned_mechanisms.json does the same for the shipped mechanism
-// scenes (their default runs and a spread of combinations, first pinned on
-// commit 84ddc6d, re-pinned on 06f65df when mechanisms began rebuilding
-// IDA's matrix at a 10 % change of cj, docs/benchmarks.md;
+// scenes (their default runs and a spread of combinations, commit 84ddc6d,
 // `tools/pin_guard.py --mechanisms`): IDA's counters, and every body's final
 // orientation and centre-of-mass position from the last row of
 // trajectory.csv, before the single-body and multibody stacks are joined.

@@ -157,17 +157,6 @@ class MultibodyProblem final : public DaeProblem {
   void make_consistent(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
   void differential_id(Eigen::Ref<Eigen::VectorXd> id) const override;
   bool suppress_algebraic_error_test() const override { return true; }
-  // 0.05 (IDA's default 0.25): the matrix is rebuilt once cj has moved by
-  // more than ~10 % (IDA's default waits for -40 % / +67 %). Measured on the
-  // shipped mechanisms' default runs (docs/benchmarks.md, "IDA's Newton
-  // convergence failures"): with a matrix that old the GGL/index-2 Newton
-  // iteration on joints fails to converge in 4 iterations (1 step in 30 on
-  // the double pendulum, 1 in 25 on the pendulum), and each failure costs a
-  // new matrix, a cut step and the iterations spent; at 0.05 the failures
-  // fall 3-9x, the residual evaluations by 25-40 % and the instructions of
-  // the whole integration by 9-14 % on every scene, the matrices built
-  // rising 2-4x (cheap: exact, one assembly and one LU each).
-  double matrix_refresh_cj_change() const override { return 0.05; }
   void absolute_tolerances(double rtol, double atol, const Eigen::VectorXd& y0,
                            Eigen::Ref<Eigen::VectorXd> out) const override;
   bool residual(double t, const double* y, const double* yp, double* F) override;

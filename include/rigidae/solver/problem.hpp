@@ -102,10 +102,6 @@ class DaeProblem {
   virtual void differential_id(Eigen::Ref<Eigen::VectorXd> id) const = 0;
   // Whether id-0 unknowns leave the error test (index 2 and above).
   virtual bool suppress_algebraic_error_test() const = 0;
-  // IDA rebuilds the iteration matrix when cj = alpha / h has changed by a
-  // factor outside [(1 - d) / (1 + d), (1 + d) / (1 - d)] since the matrix
-  // was built (IDASetDeltaCjLSetup); this is d. 0.25 is IDA's own default.
-  virtual double matrix_refresh_cj_change() const { return 0.25; }
   // Per-unknown absolute tolerances from the user's (rtol, atol) and the start y0.
   virtual void absolute_tolerances(double rtol, double atol, const Eigen::VectorXd& y0,
                                    Eigen::Ref<Eigen::VectorXd> out) const = 0;
