@@ -11,16 +11,17 @@
 #include <doctest/doctest.h>
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <filesystem>
 #include <random>
 #include <string>
 
-#include "../../src/multibody/small_lu.hpp"
 #include "alloc_counter.hpp"
 #include "multibody_differences.hpp"
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/multibody/multibody_ode.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
+#include "multibody/small_lu.hpp"
 
 TEST_SUITE_BEGIN("unit");
 
