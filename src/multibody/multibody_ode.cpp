@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "rigidae/core/error.hpp"
+#include "small_lu.hpp"
 
 namespace rigidae::multibody {
 
@@ -68,7 +69,7 @@ class KluSaddle {
   long fresh_factorisations_ = 0;
 };
 
-MultibodyOde::MultibodyOde(MultibodyProblem& problem, bool sparse, const std::string& where)
+MultibodyOde::MultibodyOde(MultibodyProblem& problem, bool sparse, const std::string& where, bool small_dense)
     : problem_(problem) {
   n_ = problem.size();
   n_state_ = problem.state_size();
@@ -128,6 +129,9 @@ MultibodyOde::MultibodyOde(MultibodyProblem& problem, bool sparse, const std::st
   xdot_scratch_.setZero(n_state_);
   if (sparse) {
     klu_ = std::make_unique<KluSaddle>(ns_, std::move(ap), std::move(ai));
+  } else if (small_dense && ns_ <= SmallLu::kCapacity) {
+    small_ = std::make_unique<SmallLu>();
+    small_->resize(ns_);  // zero outside the pattern, for ever
   } else {
     K_.setZero(ns_, ns_);
     lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(ns_);
@@ -157,6 +161,11 @@ bool MultibodyOde::factorise(double t, const double* x) {
     for (std::size_t k = 0; k < k_from_.size(); ++k) kkt_values_[k] = values_[k_from_[k]];
     return klu_->factorise(kkt_values_.data());
   }
+  if (small_) {
+    SmallLu& K = *small_;
+    for (std::size_t k = 0; k < k_from_.size(); ++k) K(k_row_[k], k_col_[k]) = values_[k_from_[k]];
+    return K.factorise() >= kSingularPivotRatio;
+  }
   for (std::size_t k = 0; k < k_from_.size(); ++k) K_(k_row_[k], k_col_[k]) = values_[k_from_[k]];
   lu_.compute(K_);
   const auto d = lu_.matrixLU().diagonal().cwiseAbs();
@@ -168,6 +177,9 @@ bool MultibodyOde::solve(const Eigen::VectorXd& b) {
   if (klu_) {
     solution_ = b;
     klu_->solve(solution_.data());
+  } else if (small_) {
+    solution_ = b;
+    small_->solve(solution_.data());
   } else {
     solution_.noalias() = lu_.solve(b);
   }

@@ -13,9 +13,12 @@
 //   [G  0  ] [lambda] = [-F_l(t, (q, v, 0), 0)] = [gamma]
 // the saddle-point (KKT) system over every body's velocities and every
 // joint's (and, Lagrange form, every body's internal) multipliers, solved at
-// each evaluation: dense LU (Eigen, partial pivoting, preallocated) or
-// sparse LU (KLU: pattern analysed once, refactorised in place), chosen like
-// the DAE's linear solver (solver.linear_solver; "auto" by the DAE's size).
+// each evaluation: dense LU with partial pivoting or sparse LU (KLU:
+// pattern analysed once, refactorised in place), chosen like the DAE's
+// linear solver (solver.linear_solver; "auto" by the DAE's size). The dense
+// LU is a fixed-capacity loop (src/multibody/small_lu.hpp) up to 48 KKT
+// unknowns (a few bodies: the pendulum's 11, the four-bar's 35), else
+// Eigen's PartialPivLU, preallocated; both pivot alike and agree to round-off.
 // The Euler form's |q| = 1, R^T R = I carry no multiplier in index1: the
 // kinematics keep them up to the integration error.
 //
@@ -54,13 +57,16 @@
 namespace rigidae::multibody {
 
 class KluSaddle;  // the sparse factorisation (multibody_ode.cpp)
+class SmallLu;    // the small dense one (src/multibody/small_lu.hpp)
 
 class MultibodyOde final : public OdeProblem {
  public:
   // problem: assembled with index1 or projection (else InputError naming
   // `where` and the valid schemes); it must outlive this object.
-  // sparse: KLU, else dense LU.
-  MultibodyOde(MultibodyProblem& problem, bool sparse, const std::string& where);
+  // sparse: KLU, else dense LU: a fixed-capacity one (small_lu.hpp) when
+  // the KKT system has at most 48 unknowns and small_dense is set, else
+  // Eigen's dynamic-size PartialPivLU (the general path; tests compare the two).
+  MultibodyOde(MultibodyProblem& problem, bool sparse, const std::string& where, bool small_dense = true);
   ~MultibodyOde() override;
 
   int size() const override { return n_state_; }
@@ -86,6 +92,8 @@ class MultibodyOde final : public OdeProblem {
   // The multipliers of the last rhs() (DAE order), for tests.
   const Eigen::VectorXd& multipliers() const { return lambda_; }
   bool sparse() const { return klu_ != nullptr; }
+  // The fixed-capacity dense LU runs the KKT solve.
+  bool small_dense() const { return small_ != nullptr; }
   // Size of the KKT system (velocities + multipliers).
   int saddle_size() const { return ns_; }
   // KLU: full factorisations (new pivot order) so far; 0 for dense.
@@ -115,6 +123,8 @@ class MultibodyOde final : public OdeProblem {
   // Dense path.
   Eigen::MatrixXd K_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+  // Small dense path (KKT order <= SmallLu::kCapacity).
+  std::unique_ptr<SmallLu> small_;
   // Sparse path.
   std::unique_ptr<KluSaddle> klu_;
   // Scratch of drift() (const in the interface: MultibodyProblem's memo).
