@@ -300,6 +300,14 @@ class MultibodyProblem final : public DaeProblem {
   void evaluate_dropped_row(int k);
   void evaluate(double t, const double* y, int order);
   void evaluate_block(int j, const double* y, const double* yp);
+  // make_consistent for bodies not joined to one another (consistent_start.cpp):
+  // each body by the one-body consistent start; F the residual at v' = 0 and
+  // no multipliers.
+  void make_consistent_by_body(Eigen::VectorXd& y, Eigen::VectorXd& yp, const Eigen::VectorXd& F);
+  // A body's own block's rows into F and its multipliers' forces into the
+  // body's rows, by the one-body schemes' expressions (schemes/body_rows.hpp).
+  void internal_block_rows(const ConstraintBlock& blk, const Eigen::Map<const Eigen::VectorXd>& y,
+                           const Eigen::Map<const Eigen::VectorXd>& yp, Eigen::Map<Eigen::VectorXd>& F) const;
   void differentiate_block(int j, const double* y, const double* yp);
   void assemble_jacobian(double t, double cj, const double* y, const double* yp, JacobianSink& sink);
   void assemble_linear_part(double t, const double* y, JacobianSink& sink, bool just_evaluated);
