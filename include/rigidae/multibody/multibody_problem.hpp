@@ -267,8 +267,15 @@ class MultibodyProblem final : public DaeProblem {
   // Not the hot path: one sparse factorisation per call (the output row's
   // and the step row's MARKER.x..az).
   void marker_kinematics(double t, const double* y, double* out);
-  // Position- and velocity-level drift over all blocks (max norms).
+  // Position- and velocity-level drift over all blocks (max norms: the
+  // largest |Phi| and |G v| of any row; the records' drift columns).
   std::pair<double, double> drift(double t, const double* y);
+  // What the projection scheme compares with its threshold: per constraint
+  // block (a body's own constraints, a joint's kept rows, a driver's row;
+  // each row set aside as redundant on its own) the 2-norms |Phi| and |G v|
+  // (|Phi_q N v| for a Kinematic block), the largest over blocks. For one
+  // body it is the one-body model's rule (DaeSystem::drift).
+  std::pair<double, double> projection_drift(double t, const double* y);
   // Projects y onto Phi = 0 (Gauss-Newton, least change in the mass metric)
   // and v onto G v = 0, then makes (y, y') consistent.
   void project(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp);
