@@ -423,6 +423,7 @@ void MultibodyProblem::start(const Scene& scene) {
 void MultibodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
   y = y0_;
   yp = yp0_;
+  events_.insert(events_.end(), start_events_.begin(), start_events_.end());
   // Force elements' own state (a torsion angle starts on its principal branch).
   for (const auto& f : forces_) f->reset();
   // Joint angles start on their principal branch (-pi, pi] too.

@@ -102,6 +102,7 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
     work_[i].st.pivot = bodies_[i].pivot;
     work_[i].st.lever = bodies_[i].lever;
   }
+  choose_start_charts(scene.time.start);
   // The joints' rows, less those the rank analysis sets aside (redundant).
   std::vector<std::vector<ConstraintRow>> rows_of_joint;
   for (const JointSpec& js : spec_.joints) {
@@ -231,6 +232,43 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
   for (const BodyModel& b : bodies_)
     for (int g : {b.q_group, b.v_group}) sink_->add_diagonal(g, 0.0);
   pattern_ = sink_->finish_recording();
+}
+
+// As the one-body model at its start (SingleBodyProblem::initial_state): a
+// body whose Euler-angle chart is within the switching margin at its start
+// pose starts in the most regular chart, its coordinates and velocities
+// written there from the physical start (angle rates through the near-
+// singular chart would be lost); without switching that is an error. Before
+// the rank analysis, which then sees the start in the chart the run uses.
+void MultibodyProblem::choose_start_charts(double t0) {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    BodyModel& b = bodies_[i];
+    if (!b.rep->has_charts()) continue;
+    const BodySpec& bs = spec_.bodies[i];
+    VecQ q;
+    VecV v;
+    b.rep->from_physical(bs.R0_WB, bs.omega0_B, q, v);
+    const double margin = b.rep->chart_margin(q);
+    if (margin > switch_threshold_) continue;
+    if (!switching_)
+      throw InputError(fmt::format(
+          "{}body '{}': the Euler-angle sequence '{}' is within its singularity margin at t = {} (margin {:.3g} <= "
+          "switch_threshold {}); choose another sequence, 'auto', or enable switching",
+          bs.where.file.empty() ? "" : fmt::format("{}:{}:{}: ", bs.where.file, bs.where.line, bs.where.column),
+          b.name, b.rep->chart_name(), t0, margin, switch_threshold_));
+    const int best = b.rep->most_regular_chart(q);
+    if (best == b.rep->chart()) continue;
+    EventNote note;
+    note.t = t0;
+    note.what = "chart_switch";
+    note.body = b.name;
+    note.from = b.rep->chart_name();
+    note.margin = margin;
+    b.rep = b.rep->in_chart(best);
+    b.map->set_sequence(so3::parse_euler_sequence(b.rep->chart_name(), false));
+    note.to = b.rep->chart_name();
+    start_events_.push_back(note);
+  }
 }
 
 void MultibodyProblem::evaluate(double t, const double* y, int order) {

@@ -305,6 +305,9 @@ class MultibodyProblem final : public DaeProblem {
   double dropped_row_miss(int k);
   // Dropped row k evaluated into *dropped_eval_ at the bodies' evaluated state.
   void evaluate_dropped_row(int k);
+  // Start charts: each body with Euler angles in its most regular chart when
+  // its own is within the switching margin at the start (multibody_problem.cpp).
+  void choose_start_charts(double t0);
   void evaluate(double t, const double* y, int order);
   void evaluate_block(int j, const double* y, const double* yp);
   // make_consistent for bodies not joined to one another (consistent_start.cpp):
@@ -416,6 +419,7 @@ class MultibodyProblem final : public DaeProblem {
   ForceBodies pivot_bodies_;
   std::unique_ptr<BlockEval> pivot_eval_;
   std::vector<EventNote> events_;
+  std::vector<EventNote> start_events_;  // chart switches at the start (choose_start_charts), per run
   const double* evaluated_y_ = nullptr;  // output_row: the bodies are evaluated at this y
   // drift()'s last answer and the (t, y) it was for (y copied: the driver
   // reuses its buffers).
