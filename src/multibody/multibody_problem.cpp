@@ -418,10 +418,19 @@ bool MultibodyProblem::residual(double t, const double* y, const double* yp, dou
       F[qo + k] = yp[qo + k] - y[vo + k];
       F[vo + k] = b.mass * yp[vo + k];
     }
-    // The rotation block's rows as the one-body schemes write them (body_rows.hpp).
+    // The rotation block's rows in the one-body schemes' order
+    // (schemes/body_rows.hpp: q' - N v; M v' formed first, then - f), as
+    // plain loops: Eigen's product on these small blocks sums each row from
+    // its first column on, as here, and its dispatch cost 1-2 % of a
+    // mechanism's residual (callgrind). test_pivot_bitwise.cpp holds the two
+    // equal bit for bit.
     const int qr = qo + b.nx, vr = vo + b.nx;
-    schemes::kinematic_rows(w.terms, ypm.segment(qr, b.nqr), Fm.segment(qr, b.nqr));
-    schemes::dynamic_rows(w.terms, ypm.segment(vr, b.nvr), Fm.segment(vr, b.nvr));
+    for (int k = 0; k < b.nqr; ++k) F[qr + k] = yp[qr + k] - w.terms.qdot(k);
+    for (int k = 0; k < b.nvr; ++k) {
+      double s = 0.0;
+      for (int l = 0; l < b.nvr; ++l) s += w.terms.M(k, l) * yp[vr + l];
+      F[vr + k] = s - w.terms.f(k);
+    }
   }
   for (const auto& f : forces_) f->add_force(force_bodies_, F);
   for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) {
