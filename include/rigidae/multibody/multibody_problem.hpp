@@ -25,7 +25,11 @@
 // InputError naming the joint (file:line:col), the row and the miss; smaller
 // ones are removed by Gauss-Newton with the least change in the mass metric
 // (a warning says how far). Velocities are projected onto G v = 0 in the
-// mass metric, then (v', lambda) come from [M G^T; G 0].
+// mass metric, then (v', lambda) come from [M G^T; G 0]. A system without
+// joints (the saddle system block diagonal, one body's own constraints per
+// block) is made consistent and projected body by body by the one-body
+// kernels (schemes/body_rows.hpp), so a one-body scene as one pivoted body
+// starts, evaluates and projects bit for bit as the one-body model.
 //
 // Redundant constraints (an overconstrained closed loop, e.g. a planar
 // four-bar of four revolute joints: 20 rows, rank 17) are accepted, as MSC

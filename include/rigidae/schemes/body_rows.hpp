@@ -1,8 +1,10 @@
 #pragma once
 // One body's residual rows from its standard-form terms (representation.hpp),
 // written once for both assemblers: the one-body schemes (src/schemes/
-// scheme.cpp) and the multibody assembler's bodies and their own constraint
-// blocks (src/multibody/multibody_problem.cpp). Floating-point sums depend on
+// scheme.cpp) and the multibody assembler's bodies' own constraint blocks
+// (src/multibody/multibody_problem.cpp, whose rotation rows q' - N v and
+// M v' - f are loops in this same order: cheaper on its small blocks, and
+// equal bit for bit, test_pivot_bitwise.cpp). Floating-point sums depend on
 // their order, so a one-body scene run as a system of one body gives the
 // one-body model's numbers bit for bit only if both evaluate every row by the
 // same expressions on the same types; these are they.
