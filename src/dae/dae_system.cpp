@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "rigidae/core/error.hpp"
+#include "rigidae/schemes/body_rows.hpp"
 
 namespace rigidae {
 
@@ -141,11 +142,9 @@ ConstraintDrift DaeSystem::drift(int chart, double t, const double* y) const {
   StandardTerms terms;
   const VecV v = velocities(y);
   rep.evaluate(t, coordinates(y), v, terms);
-  d.position = terms.phi.norm();
-  if (rep.constraint_kind() == ConstraintKind::Force)
-    d.velocity = (terms.G * v).norm();
-  else
-    d.velocity = (terms.phi_q * terms.qdot).norm();
+  const schemes::BlockDrift b = schemes::block_drift(terms, rep.constraint_kind(), v);
+  d.position = b.position;
+  d.velocity = b.velocity;
   return d;
 }
 
@@ -157,12 +156,7 @@ void DaeSystem::project(int chart, double t, Eigen::VectorXd& y, Eigen::VectorXd
   if (rep.constraint_kind() == ConstraintKind::Force) {
     StandardTerms terms;
     rep.evaluate(t, q, v, terms);
-    // v - M^-1 G^T (G M^-1 G^T)^-1 G v: the nearest v with G v = 0 in kinetic energy.
-    const auto M = terms.M.ldlt();
-    const MatCV MinvGt = M.solve(terms.G.transpose()).transpose();  // (M^-1 G^T)^T, nc x nv
-    const MatCV& G = terms.G;
-    const BoundedMat<kMaxConstraints, kMaxConstraints> S = G * MinvGt.transpose();
-    v -= MinvGt.transpose() * S.ldlt().solve(G * v);
+    schemes::project_velocities(terms, v);  // the nearest v with G v = 0 in kinetic energy
   }
   y.segment(layout_.q_offset(), layout_.nq) = q;
   y.segment(layout_.v_offset(), layout_.nv) = v;

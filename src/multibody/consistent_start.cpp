@@ -27,6 +27,7 @@
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/schemes/body_rows.hpp"
 
 namespace rigidae::multibody {
 
@@ -119,6 +120,28 @@ void solve_saddle(const Sparse& M, const Sparse& G, const Eigen::VectorXd& r1, c
 }  // namespace
 
 void MultibodyProblem::project(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
+  if (spec_.joints.empty()) {
+    // Bodies not joined to one another: each body's own constraints only,
+    // projected as the one-body model does (dae/dae_system.cpp): q by the
+    // representation's projection (unit quaternion, polar factor), then a
+    // Force-kind body's v onto G v = 0 in its kinetic energy.
+    for (const BodyModel& b : bodies_) {
+      VecQ q = ConstMap(y.data() + groups_[b.q_group].offset + b.nx, b.nqr);
+      b.rep->project_coordinates(q);
+      y.segment(groups_[b.q_group].offset + b.nx, b.nqr) = q;
+    }
+    evaluate(t, y.data(), 2);
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      const BodyModel& b = bodies_[i];
+      if (b.rep->nc() == 0 || b.rep->constraint_kind() != ConstraintKind::Force) continue;
+      const int vo = groups_[b.v_group].offset + b.nx;
+      VecV v = y.segment(vo, b.nvr);
+      schemes::project_velocities(work_[i].terms, v);
+      y.segment(vo, b.nvr) = v;
+    }
+    make_consistent(t, y, yp);
+    return;
+  }
   Sparse G;
   Eigen::VectorXd phi;
   std::vector<Eigen::MatrixXd> rot_mass(bodies_.size());
@@ -176,6 +199,57 @@ void MultibodyProblem::project(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp
   make_consistent(t, y, yp);
 }
 
+// Bodies not joined to one another (no joints, so no drivers): the saddle
+// system [M G^T; G 0] is block diagonal, one block per body holding only the
+// body's own constraints, i.e. the one-body model's system. Each body is
+// made consistent by the one-body consistent start (schemes::
+// consistent_start: dense, the same arithmetic as a one-body run), with f
+// the body's generalized force as the residual at v' = 0 and no multipliers
+// gives it (-F of its dynamic rows: the force elements' forces included);
+// a translating body's x'' = f_x / m.
+void MultibodyProblem::make_consistent_by_body(Eigen::VectorXd& y, Eigen::VectorXd& yp, const Eigen::VectorXd& F) {
+  using BodyUnknowns = BoundedVec<kMaxCoordinates + kMaxVelocities + 2 * kMaxConstraints>;
+  for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) {
+    const BodyModel& b = bodies_[i];
+    const int qo = groups_[b.q_group].offset, vo = groups_[b.v_group].offset;
+    for (int k = 0; k < b.nx; ++k) {
+      yp(qo + k) = y(vo + k);
+      yp(vo + k) = -F(vo + k) / b.mass;
+    }
+    if (b.nvr == 0) continue;  // a particle: no rotation block
+    const ConstraintBlock* own = nullptr;
+    for (const ConstraintBlock& blk : blocks_)
+      if (blk.internal && blk.body == i) own = &blk;
+    UnknownLayout lay;
+    lay.nq = b.nqr;
+    lay.nv = b.nvr;
+    if (own) {
+      lay.n_lambda = own->lambda_group >= 0 ? own->nr : 0;
+      lay.n_mu = own->mu_group >= 0 ? own->nr : 0;
+      lay.n_blocks = 1;
+      ConstraintBlockLayout& bl = lay.blocks[0];
+      bl.kind = own->kind;
+      bl.nr = own->nr;
+      bl.rows.lambda = lay.n_lambda > 0;
+      bl.rows.mu = lay.n_mu > 0;
+      bl.rows.lambda_rows = own->lambda_rows;
+      bl.rows.mu_rows = own->mu_rows;
+      if (bl.rows.lambda) bl.lambda_row = lay.lambda_offset();
+      if (bl.rows.mu) bl.mu_row = lay.mu_offset();
+    }
+    StandardTerms terms = work_[i].terms;  // at (q, v) of y: residual() evaluated them
+    terms.f = -F.segment(vo + b.nx, b.nvr);
+    BodyUnknowns u = BodyUnknowns::Zero(lay.size()), up = BodyUnknowns::Zero(lay.size());
+    u.head(lay.nq) = y.segment(qo + b.nx, lay.nq);
+    u.segment(lay.v_offset(), lay.nv) = y.segment(vo + b.nx, lay.nv);
+    schemes::consistent_start(terms, lay, u, up);
+    yp.segment(qo + b.nx, lay.nq) = up.head(lay.nq);
+    yp.segment(vo + b.nx, lay.nv) = up.segment(lay.v_offset(), lay.nv);
+    if (lay.n_lambda > 0) y.segment(groups_[own->lambda_group].offset, own->nr) = u.segment(lay.lambda_offset(), own->nr);
+    if (lay.n_mu > 0) y.segment(groups_[own->mu_group].offset, own->nr) = u.segment(lay.mu_offset(), own->nr);
+  }
+}
+
 void MultibodyProblem::make_consistent(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
   yp.setZero(n_);
   for (const ConstraintBlock& b : blocks_)
@@ -185,6 +259,10 @@ void MultibodyProblem::make_consistent(double t, Eigen::VectorXd& y, Eigen::Vect
   // constraint rows the scheme's rows without their v' part.
   Eigen::VectorXd F(n_);
   residual(t, y.data(), yp.data(), F.data());
+  if (spec_.joints.empty()) {
+    make_consistent_by_body(y, yp, F);
+    return;
+  }
   Sparse G;
   Eigen::VectorXd phi;
   constraint_matrices(G, phi, nullptr, nullptr);
@@ -345,6 +423,7 @@ void MultibodyProblem::start(const Scene& scene) {
 void MultibodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
   y = y0_;
   yp = yp0_;
+  events_.insert(events_.end(), start_events_.begin(), start_events_.end());
   // Force elements' own state (a torsion angle starts on its principal branch).
   for (const auto& f : forces_) f->reset();
   // Joint angles start on their principal branch (-pi, pi] too.
@@ -353,6 +432,30 @@ void MultibodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
   // The branches' first reference: the start's angles and rates at t0, from
   // which the first step's angles are predicted (multibody/angle_branch.hpp).
   follow_motion(t0, y.data());
+}
+
+std::pair<double, double> MultibodyProblem::projection_drift(double t, const double* y) {
+  evaluate(t, y, 2);
+  double pos = 0.0, vel = 0.0;
+  // Each body's own constraints, measured as the one-body model does
+  // (DaeSystem::drift), whether or not the scheme writes rows for them (the
+  // projection scheme in the Euler form writes none: the plain ODE).
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const BodyModel& b = bodies_[i];
+    if (b.rep->nc() == 0) continue;
+    const VecV v = ConstMap(y + groups_[b.v_group].offset + b.nx, b.nvr);
+    const schemes::BlockDrift d = schemes::block_drift(work_[i].terms, b.rep->constraint_kind(), v);
+    pos = std::max(pos, d.position);
+    vel = std::max(vel, d.velocity);
+  }
+  for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) {
+    if (blocks_[j].internal) continue;
+    evaluate_block(j, y, nullptr);
+    pos = std::max(pos, block_eval_[j].phi.norm());
+    vel = std::max(vel, block_eval_[j].Gv.norm());  // joints and drivers: Force blocks
+  }
+  const auto [dpos, dvel] = dropped_drift(y);  // rows set aside: each its own block
+  return {std::max(pos, dpos), std::max(vel, dvel)};
 }
 
 std::pair<double, double> MultibodyProblem::drift(double t, const double* y) {

@@ -10,6 +10,7 @@
 #include "rigidae/core/error.hpp"
 #include "rigidae/model/rigid_body.hpp"
 #include "rigidae/multibody/point_mass.hpp"
+#include "rigidae/schemes/body_rows.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
 
 // Force elements: src/multibody/force_elements/ (the forces, their derivatives, potentials).
@@ -101,6 +102,7 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
     work_[i].st.pivot = bodies_[i].pivot;
     work_[i].st.lever = bodies_[i].lever;
   }
+  choose_start_charts(scene.time.start);
   // The joints' rows, less those the rank analysis sets aside (redundant).
   std::vector<std::vector<ConstraintRow>> rows_of_joint;
   for (const JointSpec& js : spec_.joints) {
@@ -232,6 +234,43 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
   pattern_ = sink_->finish_recording();
 }
 
+// As the one-body model at its start (SingleBodyProblem::initial_state): a
+// body whose Euler-angle chart is within the switching margin at its start
+// pose starts in the most regular chart, its coordinates and velocities
+// written there from the physical start (angle rates through the near-
+// singular chart would be lost); without switching that is an error. Before
+// the rank analysis, which then sees the start in the chart the run uses.
+void MultibodyProblem::choose_start_charts(double t0) {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    BodyModel& b = bodies_[i];
+    if (!b.rep->has_charts()) continue;
+    const BodySpec& bs = spec_.bodies[i];
+    VecQ q;
+    VecV v;
+    b.rep->from_physical(bs.R0_WB, bs.omega0_B, q, v);
+    const double margin = b.rep->chart_margin(q);
+    if (margin > switch_threshold_) continue;
+    if (!switching_)
+      throw InputError(fmt::format(
+          "{}body '{}': the Euler-angle sequence '{}' is within its singularity margin at t = {} (margin {:.3g} <= "
+          "switch_threshold {}); choose another sequence, 'auto', or enable switching",
+          bs.where.file.empty() ? "" : fmt::format("{}:{}:{}: ", bs.where.file, bs.where.line, bs.where.column),
+          b.name, b.rep->chart_name(), t0, margin, switch_threshold_));
+    const int best = b.rep->most_regular_chart(q);
+    if (best == b.rep->chart()) continue;
+    EventNote note;
+    note.t = t0;
+    note.what = "chart_switch";
+    note.body = b.name;
+    note.from = b.rep->chart_name();
+    note.margin = margin;
+    b.rep = b.rep->in_chart(best);
+    b.map->set_sequence(so3::parse_euler_sequence(b.rep->chart_name(), false));
+    note.to = b.rep->chart_name();
+    start_events_.push_back(note);
+  }
+}
+
 void MultibodyProblem::evaluate(double t, const double* y, int order) {
   evaluated_t_ = t;
   force_bodies_.t = t;
@@ -344,9 +383,33 @@ void MultibodyProblem::differentiate_block(int j, const double* y, const double*
   }
 }
 
+// A body's own constraint block (the quaternion norm, R^T R = I) as the
+// one-body schemes write it (body_rows.hpp): its multiplier rows from the
+// body's terms, and G^T lambda, Phi_q^T mu added to its rotation rows.
+void MultibodyProblem::internal_block_rows(const ConstraintBlock& blk, const Eigen::Map<const Eigen::VectorXd>& y,
+                                           const Eigen::Map<const Eigen::VectorXd>& yp,
+                                           Eigen::Map<Eigen::VectorXd>& F) const {
+  const BodyModel& b = bodies_[blk.body];
+  const StandardTerms& terms = work_[blk.body].terms;
+  const int qr = groups_[b.q_group].offset + b.nx, vr = groups_[b.v_group].offset + b.nx;
+  const auto v = y.segment(vr, b.nvr), qp = yp.segment(qr, b.nqr), vp = yp.segment(vr, b.nvr);
+  if (blk.lambda_group >= 0) {
+    const int lo = groups_[blk.lambda_group].offset;
+    schemes::block_rows(terms, blk.kind, blk.lambda_rows, v, qp, vp, F.segment(lo, blk.nr));
+    schemes::add_constraint_forces(terms, y.segment(lo, blk.nr), F.segment(vr, b.nvr));
+  }
+  if (blk.mu_group >= 0) {
+    const int mo = groups_[blk.mu_group].offset;
+    schemes::block_rows(terms, blk.kind, blk.mu_rows, v, qp, vp, F.segment(mo, blk.nr));
+    schemes::add_kinematic_multipliers(terms, y.segment(mo, blk.nr), F.segment(qr, b.nqr));
+  }
+}
+
 bool MultibodyProblem::residual(double t, const double* y, const double* yp, double* F) {
   for (BodyWork& w : work_) w.st.P.nq = 0;
   evaluate(t, y, lagrange_form_ ? 2 : 1);
+  const ConstMap ym(y, n_), ypm(yp, n_);
+  Eigen::Map<Eigen::VectorXd> Fm(F, n_);
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const BodyModel& b = bodies_[i];
     const BodyWork& w = work_[i];
@@ -355,18 +418,28 @@ bool MultibodyProblem::residual(double t, const double* y, const double* yp, dou
       F[qo + k] = yp[qo + k] - y[vo + k];
       F[vo + k] = b.mass * yp[vo + k];
     }
+    // The rotation block's rows in the one-body schemes' order
+    // (schemes/body_rows.hpp: q' - N v; M v' formed first, then - f), as
+    // plain loops: Eigen's product on these small blocks sums each row from
+    // its first column on, as here, and its dispatch cost 1-2 % of a
+    // mechanism's residual (callgrind). test_pivot_bitwise.cpp holds the two
+    // equal bit for bit.
     const int qr = qo + b.nx, vr = vo + b.nx;
     for (int k = 0; k < b.nqr; ++k) F[qr + k] = yp[qr + k] - w.terms.qdot(k);
     for (int k = 0; k < b.nvr; ++k) {
-      double s = -w.terms.f(k);
+      double s = 0.0;
       for (int l = 0; l < b.nvr; ++l) s += w.terms.M(k, l) * yp[vr + l];
-      F[vr + k] = s;
+      F[vr + k] = s - w.terms.f(k);
     }
   }
   for (const auto& f : forces_) f->add_force(force_bodies_, F);
   for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) {
     const ConstraintBlock& blk = blocks_[j];
     evaluate_block(j, y, yp);
+    if (blk.internal) {
+      internal_block_rows(blk, ym, ypm, Fm);
+      continue;
+    }
     const BlockEval& e = block_eval_[j];
     for (int r = 0; r < blk.nr; ++r) {
       double vel = e.Gv(r), ga = 0.0;
@@ -445,11 +518,13 @@ void MultibodyProblem::assemble_jacobian(double t, double cj, const double* y, c
       const int Q = bodies_[bi].q_group, V = bodies_[bi].v_group;
       const auto rows = [&](int group, const LevelWeights& w) {
         if (group < 0) return;
-        Aq = w.position * e.phi_q[x] + w.acceleration * (e.dGa_q[x] + e.dc_q[x]);
+        // Levels in the order the rows sum them (body_rows.hpp and the
+        // one-body schemes' jacobian_rows.hpp): acceleration, velocity, position.
         if (force)
-          Aq += w.velocity * e.dGv_q[x];
+          Aq = w.acceleration * (e.dGa_q[x] + e.dc_q[x]) + w.velocity * e.dGv_q[x] + w.position * e.phi_q[x];
         else
-          Aq += w.velocity * (e.dPqp_q[x] + cj * e.phi_q[x]);
+          Aq = w.acceleration * (e.dGa_q[x] + e.dc_q[x]) + (w.velocity * cj) * e.phi_q[x] +
+               w.velocity * e.dPqp_q[x] + w.position * e.phi_q[x];
         sink.add(group, Q, 0, 0, Aq);
         if ((force && w.velocity != 0.0) || w.acceleration != 0.0) {
           Av = w.acceleration * (cj * e.G[x] + e.dc_v[x]);

@@ -97,7 +97,7 @@ StepAction MultibodyProblem::after_step(double t, double h, Eigen::VectorXd& y, 
   }
   if (change_charts(t, y, yp, false)) a.kind = StepAction::Kind::Restart;
   if (scheme_.projection) {
-    const auto [pos, vel] = drift(t, y.data());
+    const auto [pos, vel] = projection_drift(t, y.data());
     if (project_every_step_ || pos > projection_threshold_ || vel > projection_threshold_) {
       project(t, y, yp);
       events_.push_back(EventNote::projection(t, pos, vel));

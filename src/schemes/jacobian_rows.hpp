@@ -1,5 +1,5 @@
 #pragma once
-// The exact iteration-matrix rows of the residual rows in scheme_rows.hpp
+// The exact iteration-matrix rows of the residual rows in rigidae/schemes/body_rows.hpp
 // (internal header). Each adds dF/dy + cj dF/dy' of its rows into J, which
 // starts zeroed; columns are grouped as y = (q | v | lambda | mu).
 #include "rigidae/schemes/scheme.hpp"
@@ -69,7 +69,7 @@ inline void add_acceleration_level_jacobian(const JacobianInputs& in, int row, d
   J.state.block(row, lay.v_offset(), nc, lay.nv) += weight * (in.cj * in.terms.G - in.derivs.gamma_v);
 }
 
-// The iteration-matrix rows of block_rows (scheme_rows.hpp), levels in the same order.
+// The iteration-matrix rows of block_rows (rigidae/schemes/body_rows.hpp), levels in the same order.
 inline void add_block_jacobian(const JacobianInputs& in, ConstraintKind kind, const LevelWeights& w, int row,
                                IterationMatrixView& J) {
   if (w.acceleration != 0.0) add_acceleration_level_jacobian(in, row, w.acceleration, J);

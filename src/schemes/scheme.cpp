@@ -3,13 +3,15 @@
 #include "rigidae/schemes/scheme.hpp"
 
 #include "jacobian_rows.hpp"
-#include "scheme_rows.hpp"
+#include "rigidae/schemes/body_rows.hpp"
 
 namespace rigidae {
 
 using schemes::add_block_jacobian;
 using schemes::add_dynamic_jacobian;
 using schemes::add_kinematic_jacobian;
+using schemes::add_constraint_forces;
+using schemes::add_kinematic_multipliers;
 using schemes::block_rows;
 using schemes::dynamic_rows;
 using schemes::kinematic_rows;
@@ -38,13 +40,17 @@ UnknownLayout ConstraintScheme::layout(const Representation& rep) const {
 
 void ConstraintScheme::residual(const StandardTerms& t, const UnknownLayout& lay, const ConstVecRef& y,
                                 const ConstVecRef& yp, VecRef F) const {
-  kinematic_rows(t, lay, y, yp, F);
-  dynamic_rows(t, lay, y, yp, F);
+  const auto qp = yp.segment(lay.q_offset(), lay.nq);
+  const auto v = y.segment(lay.v_offset(), lay.nv), vp = yp.segment(lay.v_offset(), lay.nv);
+  kinematic_rows(t, qp, F.segment(lay.q_offset(), lay.nq));
+  if (lay.n_mu > 0) add_kinematic_multipliers(t, y.segment(lay.mu_offset(), lay.n_mu), F.segment(lay.q_offset(), lay.nq));
+  dynamic_rows(t, vp, F.segment(lay.v_offset(), lay.nv));
+  if (lay.n_lambda > 0)
+    add_constraint_forces(t, y.segment(lay.lambda_offset(), lay.n_lambda), F.segment(lay.v_offset(), lay.nv));
   for (int b = 0; b < lay.n_blocks; ++b) {
     const ConstraintBlockLayout& blk = lay.blocks[b];
-    if (blk.lambda_row >= 0)
-      block_rows(t, blk.kind, blk.rows.lambda_rows, lay, y, yp, F.segment(blk.lambda_row, blk.nr));
-    if (blk.mu_row >= 0) block_rows(t, blk.kind, blk.rows.mu_rows, lay, y, yp, F.segment(blk.mu_row, blk.nr));
+    if (blk.lambda_row >= 0) block_rows(t, blk.kind, blk.rows.lambda_rows, v, qp, vp, F.segment(blk.lambda_row, blk.nr));
+    if (blk.mu_row >= 0) block_rows(t, blk.kind, blk.rows.mu_rows, v, qp, vp, F.segment(blk.mu_row, blk.nr));
   }
 }
 
@@ -60,6 +66,10 @@ void ConstraintScheme::iteration_matrix(const JacobianInputs& in, IterationMatri
 
 void ConstraintScheme::consistent_start(const StandardTerms& t, const UnknownLayout& lay, VecRef y,
                                         VecRef yp) const {
+  schemes::consistent_start(t, lay, y, yp);
+}
+
+void schemes::consistent_start(const StandardTerms& t, const UnknownLayout& lay, VecRef y, VecRef yp) {
   const int nv = lay.nv;
   const ConstraintBlockLayout* blk = lay.n_blocks > 0 ? &lay.blocks[0] : nullptr;
   if (lay.n_lambda > 0) {

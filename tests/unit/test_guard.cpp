@@ -12,7 +12,10 @@
 // scenes (their default runs and a spread of combinations, commit 84ddc6d,
 // `tools/pin_guard.py --mechanisms`): IDA's counters, and every body's final
 // orientation and centre-of-mass position from the last row of
-// trajectory.csv, before the single-body and multibody stacks are joined.
+// trajectory.csv, before the single-body and multibody stacks are joined;
+// re-pinned (same tool) when the bodies' own rows took the one-body
+// assembler's arithmetic (schemes/body_rows.hpp): round-off, each move
+// listed in that commit.
 #include <doctest/doctest.h>
 
 #include <cmath>

@@ -25,7 +25,11 @@
 // InputError naming the joint (file:line:col), the row and the miss; smaller
 // ones are removed by Gauss-Newton with the least change in the mass metric
 // (a warning says how far). Velocities are projected onto G v = 0 in the
-// mass metric, then (v', lambda) come from [M G^T; G 0].
+// mass metric, then (v', lambda) come from [M G^T; G 0]. A system without
+// joints (the saddle system block diagonal, one body's own constraints per
+// block) is made consistent and projected body by body by the one-body
+// kernels (schemes/body_rows.hpp), so a one-body scene as one pivoted body
+// starts, evaluates and projects bit for bit as the one-body model.
 //
 // Redundant constraints (an overconstrained closed loop, e.g. a planar
 // four-bar of four revolute joints: 20 rows, rank 17) are accepted, as MSC
@@ -268,8 +272,15 @@ class MultibodyProblem final : public DaeProblem {
   // Not the hot path: one sparse factorisation per call (the output row's
   // and the step row's MARKER.x..az).
   void marker_kinematics(double t, const double* y, double* out);
-  // Position- and velocity-level drift over all blocks (max norms).
+  // Position- and velocity-level drift over all blocks (max norms: the
+  // largest |Phi| and |G v| of any row; the records' drift columns).
   std::pair<double, double> drift(double t, const double* y);
+  // What the projection scheme compares with its threshold: per constraint
+  // block (a body's own constraints, a joint's kept rows, a driver's row;
+  // each row set aside as redundant on its own) the 2-norms |Phi| and |G v|
+  // (|Phi_q N v| for a Kinematic block), the largest over blocks. For one
+  // body it is the one-body model's rule (DaeSystem::drift).
+  std::pair<double, double> projection_drift(double t, const double* y);
   // Projects y onto Phi = 0 (Gauss-Newton, least change in the mass metric)
   // and v onto G v = 0, then makes (y, y') consistent.
   void project(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp);
@@ -299,8 +310,19 @@ class MultibodyProblem final : public DaeProblem {
   double dropped_row_miss(int k);
   // Dropped row k evaluated into *dropped_eval_ at the bodies' evaluated state.
   void evaluate_dropped_row(int k);
+  // Start charts: each body with Euler angles in its most regular chart when
+  // its own is within the switching margin at the start (multibody_problem.cpp).
+  void choose_start_charts(double t0);
   void evaluate(double t, const double* y, int order);
   void evaluate_block(int j, const double* y, const double* yp);
+  // make_consistent for bodies not joined to one another (consistent_start.cpp):
+  // each body by the one-body consistent start; F the residual at v' = 0 and
+  // no multipliers.
+  void make_consistent_by_body(Eigen::VectorXd& y, Eigen::VectorXd& yp, const Eigen::VectorXd& F);
+  // A body's own block's rows into F and its multipliers' forces into the
+  // body's rows, by the one-body schemes' expressions (schemes/body_rows.hpp).
+  void internal_block_rows(const ConstraintBlock& blk, const Eigen::Map<const Eigen::VectorXd>& y,
+                           const Eigen::Map<const Eigen::VectorXd>& yp, Eigen::Map<Eigen::VectorXd>& F) const;
   void differentiate_block(int j, const double* y, const double* yp);
   void assemble_jacobian(double t, double cj, const double* y, const double* yp, JacobianSink& sink);
   void assemble_linear_part(double t, const double* y, JacobianSink& sink, bool just_evaluated);
@@ -402,6 +424,7 @@ class MultibodyProblem final : public DaeProblem {
   ForceBodies pivot_bodies_;
   std::unique_ptr<BlockEval> pivot_eval_;
   std::vector<EventNote> events_;
+  std::vector<EventNote> start_events_;  // chart switches at the start (choose_start_charts), per run
   const double* evaluated_y_ = nullptr;  // output_row: the bodies are evaluated at this y
   // drift()'s last answer and the (t, y) it was for (y copied: the driver
   // reuses its buffers).
