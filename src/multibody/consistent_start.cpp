@@ -50,17 +50,18 @@ void MultibodyProblem::constraint_matrices(Sparse& G, Eigen::VectorXd& phi, std:
     if (blk.kind != ConstraintKind::Force) continue;
     const BlockEval& e = block_eval_[j];
     for (int r = 0; r < blk.nr; ++r) {
+      if (!blk.active[r]) continue;  // set aside: implied by the others
       for (int x = 0; x < 2; ++x) {
         const int bi = blk.body_of_side[x];
         if (bi == kGround) continue;
         for (int k = 0; k < e.G[x].cols(); ++k)
-          if (e.G[x](r, k) != 0.0) trip.emplace_back(row + r, velocity_offset_[bi] + k, e.G[x](r, k));
+          if (e.G[x](r, k) != 0.0) trip.emplace_back(row, velocity_offset_[bi] + k, e.G[x](r, k));
       }
       values.push_back(e.phi(r));
       if (row_block) row_block->push_back(j);
       if (row_index) row_index->push_back(r);
+      ++row;
     }
-    row += blk.nr;
   }
   G.resize(row, nv_total_);
   G.setFromTriplets(trip.begin(), trip.end());
@@ -192,9 +193,10 @@ void MultibodyProblem::make_consistent(double t, Eigen::VectorXd& y, Eigen::Vect
   for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) {
     const ConstraintBlock& blk = blocks_[j];
     if (blk.kind != ConstraintKind::Force) continue;
-    for (int r = 0; r < blk.nr; ++r, ++row) {
+    for (int r = 0; r < blk.nr; ++r) {
+      if (!blk.active[r]) continue;
       const double wa = blk.lambda_rows.acceleration;
-      target(row) = wa != 0.0 ? -F(groups_[blk.lambda_group].offset + r) / wa : -block_eval_[j].cacc(r);
+      target(row++) = wa != 0.0 ? -F(groups_[blk.lambda_group].offset + r) / wa : -block_eval_[j].cacc(r);
     }
   }
   Eigen::VectorXd a, lambda;
@@ -205,8 +207,8 @@ void MultibodyProblem::make_consistent(double t, Eigen::VectorXd& y, Eigen::Vect
   row = 0;
   for (const ConstraintBlock& blk : blocks_) {
     if (blk.kind != ConstraintKind::Force) continue;
-    y.segment(groups_[blk.lambda_group].offset, blk.nr) = lambda.segment(row, blk.nr);
-    row += blk.nr;
+    for (int r = 0; r < blk.nr; ++r)
+      if (blk.active[r]) y(groups_[blk.lambda_group].offset + r) = lambda(row++);  // set aside: stays 0
   }
   // q'_0 = N v, then mu and q' = q'_0 - P^T mu.
   Eigen::VectorXd qdot = Eigen::VectorXd::Zero(n_);
@@ -224,18 +226,19 @@ void MultibodyProblem::make_consistent(double t, Eigen::VectorXd& y, Eigen::Vect
     if (blk.mu_group < 0) continue;
     const BlockEval& e = block_eval_[j];
     for (int r = 0; r < blk.nr; ++r) {
+      if (!blk.active[r]) continue;
       for (int x = 0; x < 2; ++x) {
         const int bi = blk.body_of_side[x];
         if (bi == kGround) continue;
         const int qo = groups_[bodies_[bi].q_group].offset;
         for (int k = 0; k < e.phi_q[x].cols(); ++k)
-          if (e.phi_q[x](r, k) != 0.0) trip.emplace_back(nmu + r, qo + k, e.phi_q[x](r, k));
+          if (e.phi_q[x](r, k) != 0.0) trip.emplace_back(nmu, qo + k, e.phi_q[x](r, k));
       }
       const LevelWeights& w = blk.mu_rows;
       rate.push_back(blk.kind == ConstraintKind::Kinematic && w.velocity != 0.0 ? -w.position * e.phi(r) / w.velocity
                                                                                 : 0.0);
+      ++nmu;
     }
-    nmu += blk.nr;
   }
   if (nmu > 0) {
     Sparse P(nmu, n_);
@@ -249,8 +252,8 @@ void MultibodyProblem::make_consistent(double t, Eigen::VectorXd& y, Eigen::Vect
     int m = 0;
     for (const ConstraintBlock& blk : blocks_) {
       if (blk.mu_group < 0) continue;
-      y.segment(groups_[blk.mu_group].offset, blk.nr) = mu.segment(m, blk.nr);
-      m += blk.nr;
+      for (int r = 0; r < blk.nr; ++r)
+        if (blk.active[r]) y(groups_[blk.mu_group].offset + r) = mu(m++);
     }
   }
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
@@ -279,6 +282,7 @@ void MultibodyProblem::start(const Scene& scene) {
     evaluate_block(j, y0_.data(), nullptr);
     if (blocks_[j].internal) continue;
     for (int r = 0; r < blocks_[j].nr; ++r) {
+      if (!blocks_[j].active[r]) continue;  // set aside: checked below
       const double miss = std::abs(block_eval_[j].phi(r));
       if (miss > spec_.start_tolerance)
         throw InputError(fmt::format("{}: the initial poses miss the joint by {:.3g} (more than start_tolerance "

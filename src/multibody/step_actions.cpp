@@ -95,6 +95,12 @@ StepAction MultibodyProblem::after_step(double t, double h, Eigen::VectorXd& y, 
     evaluate(t, y.data(), 2);  // order 2: the Lagrange form's bias terms of the rows
     follow_force_elements();
   }
+  // The independent subset of the rows (row_subset.cpp): chosen again, the
+  // multipliers are made consistent with it and the integrator restarts.
+  if (check_row_subset(t, y.data())) {
+    make_consistent(t, y, yp);
+    a.kind = StepAction::Kind::Restart;
+  }
   if (change_charts(t, y, yp, false)) a.kind = StepAction::Kind::Restart;
   if (scheme_.projection) {
     const auto [pos, vel] = drift(t, y.data());

@@ -88,6 +88,12 @@ struct ConstraintBlock {
   std::vector<ConstraintRow> rows;  // joints
   std::vector<std::string> row_names;
   int nr = 0;
+  // Per row: 1 when the row is integrated, 0 when it is set aside as
+  // dependent on the others (redundant, or chosen again during the run:
+  // row_subset.cpp). A row set aside keeps its multipliers in y, held at 0
+  // by the rows lambda_r = 0 (and mu_r = 0), so the layout and the sparse
+  // pattern never change when the subset does.
+  std::vector<char> active;
   int lambda_group = -1, mu_group = -1;
   LevelWeights lambda_rows, mu_rows;
   int body_of_side[2] = {kGround, kGround};
@@ -103,6 +109,7 @@ struct JointReaction {
 // The start's rank analysis (see the opening comment).
 struct RedundantRow {
   int joint = -1;
+  int index = -1;        // the row's index among its joint's rows
   std::string row;       // the row's name, e.g. "axis_n1"
   ConstraintRow constraint;
 };
@@ -159,6 +166,18 @@ class MultibodyProblem final : public DaeProblem {
   const RedundancyReport& redundancy() const { return redundancy_; }
   // What an assembled start ([mechanism] assemble / hold) did; done = false without one.
   const AssemblyReport& assembly() const { return assembly_; }
+  // The rows set aside now: the start's (redundancy().dropped) until the
+  // subset is chosen again during the run (row_subset.cpp).
+  const std::vector<RedundantRow>& set_aside() const { return set_aside_; }
+  // How often the subset was chosen again, and the largest dependency
+  // coefficient |alpha| seen at an accepted step (0 without rows set aside).
+  int subset_changes() const { return subset_changes_; }
+  double largest_dependency() const { return largest_dependency_; }
+  // After an accepted step at y: re-checks the independent subset (see
+  // row_subset.cpp) and chooses it again when it has become ill-conditioned.
+  // Returns true when the masks changed (the multipliers must be made
+  // consistent again). Records a "row_subset" event.
+  bool check_row_subset(double t, const double* y);
   // "JOINT.ROW" of a dropped row, with the joint's file:line:col.
   std::string dropped_row_source(int k) const;
   // Largest |Phi| and |G v| of the dropped rows at y (0 when none).
@@ -311,6 +330,10 @@ class MultibodyProblem final : public DaeProblem {
   std::vector<std::string> warnings_;
   RedundancyReport redundancy_;
   std::vector<std::vector<int>> dropped_of_joint_;  // indices into redundancy_.dropped
+  std::vector<RedundantRow> set_aside_;             // the rows inactive now (index: in the joint's block)
+  int subset_changes_ = 0;
+  double subset_baseline_ = 1.0;  // max |alpha| right after the last choice of the subset
+  double largest_dependency_ = 0.0;
   std::unique_ptr<BlockEval> dropped_eval_;
   std::vector<EventNote> events_;
   const double* evaluated_y_ = nullptr;  // output_row: the bodies are evaluated at this y
