@@ -334,6 +334,20 @@ void MultibodyProblem::start(const Scene& scene) {
 void MultibodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
   y = y0_;
   yp = yp0_;
+  // The start's subset of the rows (a run before this one may have chosen
+  // another) and a fresh singular-pose watch.
+  singular_poses_.clear();
+  near_singular_ = false;
+  start_condition_ = -1.0;
+  if (!redundancy_.dropped.empty()) {
+    for (ConstraintBlock& b : blocks_)
+      if (!b.internal) std::fill(b.active.begin(), b.active.end(), 1);
+    for (const RedundantRow& d : redundancy_.dropped) blocks_[block_of_joint_[d.joint]].active[d.index] = 0;
+    set_aside_ = redundancy_.dropped;
+    subset_baseline_ = start_baseline_;
+    subset_changes_ = 0;
+    largest_dependency_ = 0.0;
+  }
   // Force elements' own state (a torsion angle starts on its principal branch).
   for (const auto& f : forces_) f->reset();
   // Joint angles start on their principal branch (-pi, pi] too.

@@ -130,7 +130,7 @@ void MultibodyProblem::find_redundant_rows(const Scene& scene, std::vector<std::
   {
     double residual = 0.0;
     const Eigen::MatrixXd a = row_dependencies(Gt, kept, aside, residual);
-    subset_baseline_ = a.size() ? a.cwiseAbs().maxCoeff() : 1.0;
+    subset_baseline_ = start_baseline_ = std::max(1.0, a.size() ? a.cwiseAbs().maxCoeff() : 1.0);
   }
   {
     std::vector<Triplet> trip;

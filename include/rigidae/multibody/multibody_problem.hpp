@@ -129,6 +129,16 @@ struct RedundancyReport {
   std::string mobility_warning;           // expected_dof differs from rank_dof (also in warnings())
 };
 
+struct ForceRowRef;  // one Force row (src/multibody/row_rank.hpp)
+
+// A pose passed during the run where every subset of the rows was nearly
+// dependent (row_subset.cpp): assembly branches cross there.
+struct SingularPose {
+  double t = 0.0;
+  double condition = 1.0;   // smallest min|R_kk|/max|R_kk| of the kept rows seen there, relative to the start's
+  std::string joints;       // the joints in the near-dependency, space-separated
+};
+
 class MultibodyProblem final : public DaeProblem {
  public:
   // scene.multibody must hold the validated spec. Throws InputError for a
@@ -172,12 +182,17 @@ class MultibodyProblem final : public DaeProblem {
   // How often the subset was chosen again, and the largest dependency
   // coefficient |alpha| seen at an accepted step (0 without rows set aside).
   int subset_changes() const { return subset_changes_; }
+  // Singular poses met during the run (only in mechanisms with rows set aside).
+  const std::vector<SingularPose>& singular_poses() const { return singular_poses_; }
   double largest_dependency() const { return largest_dependency_; }
   // After an accepted step at y: re-checks the independent subset (see
   // row_subset.cpp) and chooses it again when it has become ill-conditioned.
   // Returns true when the masks changed (the multipliers must be made
   // consistent again). Records a "row_subset" event.
   bool check_row_subset(double t, const double* y);
+  // Part of it: the kept rows' conditioning, a singular pose noted.
+  void watch_singular_pose(double t, const Eigen::SparseMatrix<double, Eigen::ColMajor, long>& Gt,
+                           const std::vector<int>& kept, const std::vector<ForceRowRef>& refs);
   // "JOINT.ROW" of a dropped row, with the joint's file:line:col.
   std::string dropped_row_source(int k) const;
   // Largest |Phi| and |G v| of the dropped rows at y (0 when none).
@@ -332,7 +347,11 @@ class MultibodyProblem final : public DaeProblem {
   std::vector<std::vector<int>> dropped_of_joint_;  // indices into redundancy_.dropped
   std::vector<RedundantRow> set_aside_;             // the rows inactive now (index: in the joint's block)
   int subset_changes_ = 0;
-  double subset_baseline_ = 1.0;  // max |alpha| right after the last choice of the subset
+  std::vector<SingularPose> singular_poses_;
+  bool near_singular_ = false;     // inside a singular pose's neighbourhood (row_subset.cpp)
+  double start_condition_ = -1.0;  // the kept rows' R ratio at the first check
+  double subset_baseline_ = 1.0;
+  double start_baseline_ = 1.0;  // the start's  // max |alpha| right after the last choice of the subset
   double largest_dependency_ = 0.0;
   std::unique_ptr<BlockEval> dropped_eval_;
   std::vector<EventNote> events_;
