@@ -33,23 +33,31 @@
 // units: point rows (metres) are divided by the scene's length L, the
 // largest joint-point offset from a body's centre of mass (1 m when there is
 // none); angular rows are dimensionless. The threshold is 1e-9 times the
-// largest |R_kk| of a first factorisation. The joints' rows set aside are
-// dropped from their blocks (redundancy().dropped, named per joint with the
-// joint's file:line:col): the DAE is just smaller, so every scheme and
-// representation runs unchanged; the kept rows' multipliers carry the whole
+// largest |R_kk| of a first factorisation; of the dependent rows the
+// best-conditioned choice is set aside (row_rank.hpp, best_set_aside). The
+// rows set aside (redundancy().dropped, named per joint with the joint's
+// file:line:col) stay in their blocks, inactive (ConstraintBlock::active):
+// their multipliers are held at 0 by the rows lambda_r = 0, mu_r = 0, so
+// every scheme and representation runs unchanged and the layout never
+// changes; the kept rows' multipliers carry the whole
 // load (the particular solution of the independent subset: the reactions of
 // the joints in the dependency, redundancy().indeterminate_joints, are not
 // determined by the constraints and are reported as computed). A dropped
 // row's Phi and G v are still monitored (drift(), joint_residuals()): they
-// are implied by the kept rows and stay at the integration error. After the
+// are implied by the kept rows and stay at the integration error. After every
+// accepted step the subset is re-checked and chosen again when it has turned
+// ill-conditioned (row_subset.cpp: an event, a projection and a restart),
+// and a rank loss of all the rows (a singular pose) is noted. After the
 // start's projection a dropped row that misses by more than start_tolerance
 // is an error (the loop cannot close in that direction).
 // Singular start: the rank is measured again at two nearby poses (the start
 // moved along its velocity and along a random admissible velocity by about
 // 1% of L, each projected back onto the kept rows). Rank loss that persists
 // there is redundancy; rank loss only at the start is a singular pose, and a
-// warning says the assembly branch is ambiguous (the dropped rows then hold
-// only through the drift monitor).
+// warning says the assembly branch is ambiguous (the run's re-check sets
+// the rows active again once they stop being implied, a relative residual
+// above 1e-4 against the kept rows: row_subset.cpp; not yet tested on a
+// singular start).
 // Mobility: rank_dof = velocities - rank of the Force rows (6 per body in the
 // Euler form), beside Gruebler-Kutzbach 6 n - sum of the joints' rows; a
 // scene's expected_dof that differs from rank_dof is a warning.
