@@ -455,8 +455,15 @@ bool IdaRun::advance_one_step() {
     IDAGetCurrentStep(ida_.mem, &h);
     IDAGetCurrentTime(ida_.mem, &tcur);
     t_ = tcur;
-    fail(fmt::format("IDA failed with {} at t = {:.9g} s, step size {:.3g} s: {}{}", flag_name(flag_), tcur, h,
-                     explain_failure(flag_, problem_.suppress_algebraic_error_test()), what_ida_said()));
+    // Repeated Newton failures: what the problem knows at the last accepted
+    // state (a mechanism names the joints whose rows lost rank there).
+    std::string why;
+    if (flag_ == IDA_CONV_FAIL || flag_ == IDA_ERR_FAIL) {
+      const std::string d = problem_.describe_stall(t_, N_VGetArrayPointer(ida_.y));
+      if (!d.empty()) why = " " + d;
+    }
+    fail(fmt::format("IDA failed with {} at t = {:.9g} s, step size {:.3g} s: {}{}{}", flag_name(flag_), tcur, h,
+                     explain_failure(flag_, problem_.suppress_algebraic_error_test()), what_ida_said(), why));
     return false;
   }
   emit_grid_until(t_);
