@@ -132,6 +132,11 @@ class Writer {
   }
 
   void refuse_what_mjcf_lacks() const {
+    for (const BodySpec& b : mb_.bodies)
+      if (b.pivot_W)
+        refuse(b.where, fmt::format("body \"{}\" is held at a pivot: MJCF export writes joints, not pivots; hold "
+                                    "it by a spherical joint to the ground to export it",
+                                    b.name));
     if (!mb_.springs.empty())
       refuse(mb_.springs.front().where,
              fmt::format("spring \"{}\": MJCF export writes bodies and joints, not two-point springs (a spatial "

@@ -53,10 +53,10 @@ constexpr std::array<std::string_view, 18> kRootKeys{
     "expected_dof",   "mechanism", "drivers", "markers"};
 constexpr std::array<std::string_view, 4> kMarkerKeys{"name", "body", "point", "frame"};
 constexpr std::array<std::string_view, 3> kMechanismKeys{"expected_dof", "assemble", "hold"};
-constexpr std::array<std::string_view, 16> kBodyKeys{
+constexpr std::array<std::string_view, 17> kBodyKeys{
     "name",     "mass",  "inertia_principal", "inertia",    "inertia_axes", "position",         "quaternion",
     "euler",    "matrix", "axis_angle",       "velocity",   "angular_velocity", "angular_velocity_frame",
-    "coordinates", "visual", "kind"};
+    "coordinates", "visual", "kind", "pivot"};
 // kind = "rigid" (the default) or "particle": a point mass has mass,
 // position and velocity only (multibody/point_mass.hpp).
 constexpr std::array<std::string_view, 2> kBodyKinds{"rigid", "particle"};
@@ -506,6 +506,17 @@ class MultibodyReader {
       if (const toml::node* f = t.get("angular_velocity_frame"))
         space = r_.choice(*f, join_key(prefix, "angular_velocity_frame"), kFrames) == 0;
       b.omega0_B = space ? Vec3(b.R0_WB.transpose() * w) : w;
+      // pivot = [x, y, z] (m, space): the body turns about this fixed point
+      // only (the one-body model of a top); its centre of mass keeps its
+      // distance, and its velocity follows from the angular velocity.
+      if (const toml::node* p = t.get("pivot")) {
+        b.pivot_W = bounded_vec3(r_, *p, join_key(prefix, "pivot"), kMaxLength, "m");
+        if (const toml::node* v = t.get("velocity"))
+          r_.fail(*v, fmt::format("'{}' is given, but body '{}' has a pivot: its centre of mass moves with its "
+                                  "rotation about the pivot (omega x (position - pivot)); leave 'velocity' out",
+                                  join_key(prefix, "velocity"), b.name));
+        b.v0_W = (b.R0_WB * b.omega0_B).cross(b.x0_W - *b.pivot_W);
+      }
       if (const toml::node* c = t.get("coordinates")) {
         // The values formulation.coordinates takes: the representation registry's.
         const std::vector<std::string> names = settings::scene_setting("formulation.coordinates").choices();
@@ -587,6 +598,13 @@ class MultibodyReader {
     if (assemble) {
       spec.assembly.requested = r_.boolean(*assemble, "mechanism.assemble");
       spec.assembly.where = where(*assemble);
+      for (const BodySpec& b : spec.bodies)
+        if (spec.assembly.requested && b.pivot_W)
+          r_.fail(*assemble, fmt::format("'mechanism.assemble' = true with body '{}' held at a pivot: an assembled "
+                                         "start does not move pivoted bodies yet; place the bodies on their joints "
+                                         "and leave 'assemble' out, or hold the body by a spherical joint to the "
+                                         "ground instead of 'pivot'",
+                                         b.name));
     }
     if (!hold) return;
     if (assemble && !spec.assembly.requested)

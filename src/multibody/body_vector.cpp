@@ -8,22 +8,23 @@ namespace rigidae::multibody {
 namespace {
 
 // Rotation velocities (v_rot) of a body as a vector.
-inline double vrot(const BodyState& b, int k) { return b.v[3 + k]; }
+inline double vrot(const BodyState& b, int k) { return b.v[b.nx + k]; }
 
 }  // namespace
 
 void evaluate_vector(const BodyState& b, const BodyVector& bv, VectorEval& out) {
   const RotationPartials& P = b.P;
-  const Vec3& s = bv.s;
+  const Vec3 s = b.lever_of(bv);
+  const int o = b.nx;
   out.value = P.R * s;
-  if (bv.point) out.value += b.x();
+  if (bv.point) out.value += o == 3 ? b.x() : b.pivot;
   out.D.setZero(3, b.nq());
   out.Wm.setZero(3, b.nv());
-  if (bv.point) {
+  if (bv.point && o == 3) {
     out.D.leftCols<3>().setIdentity();
     out.Wm.leftCols<3>().setIdentity();
   }
-  for (int k = 0; k < b.nqr; ++k) out.D.col(3 + k) = P.d1[k] * s;
+  for (int k = 0; k < b.nqr; ++k) out.D.col(o + k) = P.d1[k] * s;
   if (b.lagrange) {
     out.Wm.rightCols(b.nvr) = out.D.rightCols(b.nqr);
     out.bias.setZero();
@@ -41,62 +42,72 @@ void evaluate_vector(const BodyState& b, const BodyVector& bv, VectorEval& out) 
 
 void vector_dWw_dq(const BodyState& b, const BodyVector& bv, const double* w, Mat3BQ& out) {
   const RotationPartials& P = b.P;
+  const Vec3 s = b.lever_of(bv);
+  const int o = b.nx;
   out.setZero(3, b.nq());
   if (b.lagrange) {
     if (P.d2_zero) return;
     for (int m = 0; m < b.nqr; ++m)
-      for (int k = 0; k < b.nqr; ++k) out.col(3 + m) += w[3 + k] * (P.d2[k][m] * bv.s);
+      for (int k = 0; k < b.nqr; ++k) out.col(o + m) += w[o + k] * (P.d2[k][m] * s);
   } else {
-    const Vec3 ws = Vec3(w[3], w[4], w[5]).cross(bv.s);
-    for (int m = 0; m < b.nqr; ++m) out.col(3 + m) = P.d1[m] * ws;
+    const Vec3 ws = Vec3(w[o], w[o + 1], w[o + 2]).cross(s);
+    for (int m = 0; m < b.nqr; ++m) out.col(o + m) = P.d1[m] * ws;
   }
 }
 
 void vector_dWtm_dq(const BodyState& b, const BodyVector& bv, const Vec3& m, MatBVQ& out) {
   const RotationPartials& P = b.P;
+  const Vec3 s = b.lever_of(bv);
+  const int o = b.nx;
   out.setZero(b.nv(), b.nq());
   if (b.lagrange) {
     if (P.d2_zero) return;
     for (int k = 0; k < b.nqr; ++k)
-      for (int n = 0; n < b.nqr; ++n) out(3 + k, 3 + n) = m.dot(P.d2[k][n] * bv.s);
+      for (int n = 0; n < b.nqr; ++n) out(o + k, o + n) = m.dot(P.d2[k][n] * s);
   } else {
-    for (int n = 0; n < b.nqr; ++n) out.block<3, 1>(3, 3 + n) = bv.s.cross(P.d1[n].transpose() * m);
+    for (int n = 0; n < b.nqr; ++n) out.block<3, 1>(o, o + n) = s.cross(P.d1[n].transpose() * m);
   }
 }
 
 void vector_dDtm_dq(const BodyState& b, const BodyVector& bv, const Vec3& m, MatBQQ& out) {
   const RotationPartials& P = b.P;
+  const Vec3 s = b.lever_of(bv);
+  const int o = b.nx;
   out.setZero(b.nq(), b.nq());
   if (P.d2_zero) return;
   for (int k = 0; k < b.nqr; ++k)
-    for (int n = 0; n < b.nqr; ++n) out(3 + k, 3 + n) = m.dot(P.d2[k][n] * bv.s);
+    for (int n = 0; n < b.nqr; ++n) out(o + k, o + n) = m.dot(P.d2[k][n] * s);
 }
 
 void vector_dbias_dq(const BodyState& b, const BodyVector& bv, Mat3BQ& out) {
   const RotationPartials& P = b.P;
+  const Vec3 s = b.lever_of(bv);
+  const int o = b.nx;
   out.setZero(3, b.nq());
   if (b.lagrange) {
     if (P.d3_zero) return;  // only Euler angles have third partials (nqr = 3)
     for (int n = 0; n < 3; ++n)
       for (int k = 0; k < 3; ++k)
-        for (int m = 0; m < 3; ++m) out.col(3 + n) += (vrot(b, k) * vrot(b, m)) * (P.d3[k][m][n] * bv.s);
+        for (int m = 0; m < 3; ++m) out.col(o + n) += (vrot(b, k) * vrot(b, m)) * (P.d3[k][m][n] * s);
   } else {
     const Vec3 w = b.omega();
-    const Vec3 wws = w.cross(w.cross(bv.s));
-    for (int n = 0; n < b.nqr; ++n) out.col(3 + n) = P.d1[n] * wws;
+    const Vec3 wws = w.cross(w.cross(s));
+    for (int n = 0; n < b.nqr; ++n) out.col(o + n) = P.d1[n] * wws;
   }
 }
 
 void vector_dbias_dv(const BodyState& b, const BodyVector& bv, Mat3BV& out) {
   const RotationPartials& P = b.P;
+  const Vec3 s = b.lever_of(bv);
+  const int o = b.nx;
   out.setZero(3, b.nv());
   if (b.lagrange) {
     if (P.d2_zero) return;
     for (int k = 0; k < b.nqr; ++k)
-      for (int m = 0; m < b.nqr; ++m) out.col(3 + k) += (2.0 * vrot(b, m)) * (P.d2[k][m] * bv.s);
+      for (int m = 0; m < b.nqr; ++m) out.col(o + k) += (2.0 * vrot(b, m)) * (P.d2[k][m] * s);
   } else {
     const Vec3 w = b.omega();
-    out.rightCols<3>() = -P.R * (so3::hat(w.cross(bv.s)) + so3::hat(w) * so3::hat(bv.s));
+    out.rightCols<3>() = -P.R * (so3::hat(w.cross(s)) + so3::hat(w) * so3::hat(s));
   }
 }
 

@@ -77,9 +77,10 @@ Sparse mass_matrix(const std::vector<BodyModel>& bodies, const std::vector<int>&
   std::vector<Triplet> trip;
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const int o = offsets[i];
-    for (int k = 0; k < 3; ++k) trip.emplace_back(o + k, o + k, bodies[i].mass);
+    const int nx = bodies[i].nx;
+    for (int k = 0; k < nx; ++k) trip.emplace_back(o + k, o + k, bodies[i].mass);
     for (int r = 0; r < rot_mass[i].rows(); ++r)
-      for (int c = 0; c < rot_mass[i].cols(); ++c) trip.emplace_back(o + 3 + r, o + 3 + c, rot_mass[i](r, c));
+      for (int c = 0; c < rot_mass[i].cols(); ++c) trip.emplace_back(o + nx + r, o + nx + c, rot_mass[i](r, c));
   }
   Sparse S(nv, nv);
   S.setFromTriplets(trip.begin(), trip.end());
@@ -132,9 +133,9 @@ void MultibodyProblem::project(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp
   // representation's own projection (unit quaternion, polar factor).
   for (int it = 0; it < 30; ++it) {
     for (const BodyModel& b : bodies_) {
-      VecQ q = ConstMap(y.data() + groups_[b.q_group].offset + 3, b.nqr);
+      VecQ q = ConstMap(y.data() + groups_[b.q_group].offset + b.nx, b.nqr);
       b.rep->project_coordinates(q);
-      y.segment(groups_[b.q_group].offset + 3, b.nqr) = q;
+      y.segment(groups_[b.q_group].offset + b.nx, b.nqr) = q;
     }
     refresh();
     if (max_abs(phi) < 1e-14) break;
@@ -144,12 +145,12 @@ void MultibodyProblem::project(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
       const BodyModel& b = bodies_[i];
       const int qo = groups_[b.q_group].offset, o = velocity_offset_[i];
-      y.segment(qo, 3) += dv.segment(o, 3);
-      const VecQ qr = y.segment(qo + 3, b.nqr);
-      const VecV dvr = dv.segment(o + 3, b.nvr);
+      y.segment(qo, b.nx) += dv.segment(o, b.nx);
+      const VecQ qr = y.segment(qo + b.nx, b.nqr);
+      const VecV dvr = dv.segment(o + b.nx, b.nvr);
       StandardTerms terms;
       b.rep->evaluate(t, qr, dvr, terms);  // q' = N(q) v is linear in v
-      y.segment(qo + 3, b.nqr) += terms.qdot;
+      y.segment(qo + b.nx, b.nqr) += terms.qdot;
     }
   }
   // Velocities onto G v = 0 in the mass metric.
@@ -222,8 +223,8 @@ void MultibodyProblem::make_consistent(double t, Eigen::VectorXd& y, Eigen::Vect
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const BodyModel& b = bodies_[i];
     const int qo = groups_[b.q_group].offset, vo = groups_[b.v_group].offset;
-    qdot.segment(qo, 3) = y.segment(vo, 3);
-    qdot.segment(qo + 3, b.nqr) = work_[i].terms.qdot;
+    qdot.segment(qo, b.nx) = y.segment(vo, b.nx);
+    qdot.segment(qo + b.nx, b.nqr) = work_[i].terms.qdot;
   }
   std::vector<Triplet> trip;
   std::vector<double> rate;

@@ -25,8 +25,8 @@ void MultibodyProblem::assemble_linear_part(double t, const double* y, JacobianS
   for (const BodyModel& b : bodies_) {
     const BodyWork& w = work_[&b - bodies_.data()];
     sink.add_diagonal(b.q_group, 1.0);
-    sink.add(b.v_group, b.v_group, 0, 0, b.mass * Mat3::Identity());
-    sink.add(b.v_group, b.v_group, 3, 3, w.terms.M);
+    if (b.nx == 3) sink.add(b.v_group, b.v_group, 0, 0, b.mass * Mat3::Identity());
+    sink.add(b.v_group, b.v_group, b.nx, b.nx, w.terms.M);
   }
   for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) {
     const ConstraintBlock& blk = blocks_[j];

@@ -24,7 +24,8 @@
 // rate c (u_b . u_a' + u_a . u_b'), u' = x' + omega x (R s) for a point and
 // omega x (R s) for a direction, so its row holds
 //   on x'_a: c u_b (a point only),   on omega_a: c (R s_a) x u_b
-// and the same with a and b exchanged. Rows of joints outside S and bodies'
+// and the same with a and b exchanged. A pivoted body has omega alone, a
+// point's lever measured from the pivot; a particle's omega columns are zero. Rows of joints outside S and bodies'
 // own rows do not enter: their multipliers are determined.
 #include <Eigen/QR>
 
@@ -36,16 +37,19 @@ namespace rigidae::multibody {
 
 namespace {
 
-// Value of a body vector in space and its lever arm R s (zero for the ground).
-void place(const BodyState* st, const BodyVector& bv, Vec3& value, Vec3& lever) {
+// Value of a body vector in space and its lever arm: a point's offset from
+// the body's centre of mass (from its pivot when pivoted, whose velocity is
+// then omega x lever alone), a direction itself; zero for the ground.
+void place(const BodyState* st, const BodyModel* b, const BodyVector& bv, Vec3& value, Vec3& lever) {
   if (!st) {
     value = bv.s;
     lever.setZero();
     return;
   }
-  lever = st->P.R * bv.s;
-  value = lever;
-  if (bv.point) value += st->x();
+  VectorEval e;
+  evaluate_vector(*st, bv, e);
+  value = e.value;
+  lever = !bv.point ? value : b->pivoted() ? Vec3(value - b->pivot) : Vec3(value - st->x());
 }
 
 }  // namespace
@@ -106,12 +110,13 @@ void MultibodyProblem::solve_minimum_norm_reactions(const double* y) {
       const BodyVector* vec[2] = {&term.a, &term.b};
       Vec3 value[2], lever[2];
       for (int s = 0; s < 2; ++s)
-        place(vec[s]->body == kGround ? nullptr : &work_[vec[s]->body].st, *vec[s], value[s], lever[s]);
+        place(vec[s]->body == kGround ? nullptr : &work_[vec[s]->body].st,
+              vec[s]->body == kGround ? nullptr : &bodies_[vec[s]->body], *vec[s], value[s], lever[s]);
       for (int s = 0; s < 2; ++s) {
         if (vec[s]->body == kGround) continue;
         const int c = column_of(vec[s]->body);
         const Vec3& other = value[1 - s];
-        if (vec[s]->point) m.A.block<3, 1>(c, r) += term.coeff * other;
+        if (vec[s]->point && !bodies_[vec[s]->body].pivoted()) m.A.block<3, 1>(c, r) += term.coeff * other;
         m.A.block<3, 1>(c + 3, r) += term.coeff * lever[s].cross(other);
       }
     }

@@ -66,6 +66,7 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
       b.rep = make_point_mass_rotation();
       b.map = make_fixed_rotation_map();
     } else {
+      if (bs.pivot_W) pivot_body_scene(bs, s, b);  // the one-body model about the pivot (pivot.cpp)
       b.rep = make_representation(s, make_rigid_body_model(s));
       const so3::EulerSequence seq =
           b.rep->has_charts() ? so3::parse_euler_sequence(b.rep->chart_name(), false) : so3::EulerSequence{};
@@ -74,18 +75,18 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
     b.nqr = b.rep->nq();
     b.nvr = b.rep->nv();
     b.q_group = static_cast<int>(groups_.size());
-    groups_.push_back({offset, 3 + b.nqr});
-    offset += 3 + b.nqr;
+    groups_.push_back({offset, b.nx + b.nqr});
+    offset += b.nx + b.nqr;
     b.v_group = static_cast<int>(groups_.size());
-    groups_.push_back({offset, 3 + b.nvr});
-    offset += 3 + b.nvr;
+    groups_.push_back({offset, b.nx + b.nvr});
+    offset += b.nx + b.nvr;
     bodies_.push_back(std::move(b));
   }
   n_state_ = offset;
   nv_total_ = 0;
   for (const BodyModel& b : bodies_) {
     velocity_offset_.push_back(nv_total_);
-    nv_total_ += 3 + b.nvr;
+    nv_total_ += b.nx + b.nvr;
   }
 
   work_.resize(bodies_.size());
@@ -96,6 +97,9 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
     work_[i].st.lagrange = lagrange_form_ || bodies_[i].particle;
     work_[i].st.nqr = bodies_[i].nqr;
     work_[i].st.nvr = bodies_[i].nvr;
+    work_[i].st.nx = bodies_[i].nx;
+    work_[i].st.pivot = bodies_[i].pivot;
+    work_[i].st.lever = bodies_[i].lever;
   }
   // The joints' rows, less those the rank analysis sets aside (redundant).
   std::vector<std::vector<ConstraintRow>> rows_of_joint;
@@ -246,9 +250,9 @@ void MultibodyProblem::evaluate(double t, const double* y, int order) {
     BodyWork& w = work_[i];
     w.st.q = y + groups_[b.q_group].offset;
     w.st.v = y + groups_[b.v_group].offset;
-    b.map->evaluate(w.st.q + 3, order, w.st.P);
-    const VecQ qr = ConstMap(w.st.q + 3, b.nqr);
-    const VecV vr = ConstMap(w.st.v + 3, b.nvr);
+    b.map->evaluate(w.st.q + b.nx, order, w.st.P);
+    const VecQ qr = ConstMap(w.st.q + b.nx, b.nqr);
+    const VecV vr = ConstMap(w.st.v + b.nx, b.nvr);
     b.rep->evaluate(t, qr, vr, w.terms);
   }
 }
@@ -279,7 +283,7 @@ void MultibodyProblem::evaluate_block(int j, const double* /*y*/, const double* 
   e.cacc.setZero(nr);
   if (blk.kind == ConstraintKind::Force) {
     e.G[0].rightCols(w.st.nvr) = w.terms.G;
-    for (int k = 0; k < w.st.nvr; ++k) e.Gv += w.terms.G.col(k) * w.st.v[3 + k];
+    for (int k = 0; k < w.st.nvr; ++k) e.Gv += w.terms.G.col(k) * w.st.v[w.st.nx + k];
     e.cacc = -w.terms.gamma;
   }
   e.phi_q[1].resize(nr, 0);
@@ -309,7 +313,7 @@ void MultibodyProblem::differentiate_block(int j, const double* y, const double*
   const BodyWork& w = work_[blk.body];
   const BodyModel& b = bodies_[blk.body];
   const int nr = blk.nr, nq = w.st.nq(), nv = w.st.nv(), nqr = b.nqr;
-  const VecQ qr = ConstMap(w.st.q + 3, nqr);
+  const VecQ qr = ConstMap(w.st.q + b.nx, nqr);
   for (BlockMatQ* m : {&e.dGv_q[0], &e.dGa_q[0], &e.dc_q[0], &e.dPqp_q[0]}) m->setZero(nr, nq);
   e.dc_v[0].setZero(nr, nv);
   e.HL[0][0].setZero(nv, nq);
@@ -325,8 +329,8 @@ void MultibodyProblem::differentiate_block(int j, const double* y, const double*
   MatCQ H;
   MatQQ HH;
   if (blk.kind == ConstraintKind::Force) {
-    const VecQ vr = ConstMap(w.st.v + 3, nqr);  // Lagrange form: v = q'
-    const VecQ ar = ConstMap(yp + groups_[b.v_group].offset + 3, nqr);
+    const VecQ vr = ConstMap(w.st.v + b.nx, nqr);  // Lagrange form: v = q'
+    const VecQ ar = ConstMap(yp + groups_[b.v_group].offset + b.nx, nqr);
     b.rep->constraint_hessian_applied(qr, vr, H);
     e.dGv_q[0].rightCols(nqr) = H;
     b.rep->constraint_hessian_applied(qr, ar, H);
@@ -339,7 +343,7 @@ void MultibodyProblem::differentiate_block(int j, const double* y, const double*
       e.HL[0][0].bottomRightCorner(nqr, nqr) = HH;
     }
   } else {
-    const VecQ qp = ConstMap(yp + groups_[b.q_group].offset + 3, nqr);
+    const VecQ qp = ConstMap(yp + groups_[b.q_group].offset + b.nx, nqr);
     b.rep->constraint_hessian_applied(qr, qp, H);
     e.dPqp_q[0].rightCols(nqr) = H;
   }
@@ -357,15 +361,16 @@ bool MultibodyProblem::residual(double t, const double* y, const double* yp, dou
     const BodyModel& b = bodies_[i];
     const BodyWork& w = work_[i];
     const int qo = groups_[b.q_group].offset, vo = groups_[b.v_group].offset;
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < b.nx; ++k) {
       F[qo + k] = yp[qo + k] - y[vo + k];
       F[vo + k] = b.mass * yp[vo + k];
     }
-    for (int k = 0; k < b.nqr; ++k) F[qo + 3 + k] = yp[qo + 3 + k] - w.terms.qdot(k);
+    const int qr = qo + b.nx, vr = vo + b.nx;
+    for (int k = 0; k < b.nqr; ++k) F[qr + k] = yp[qr + k] - w.terms.qdot(k);
     for (int k = 0; k < b.nvr; ++k) {
       double s = -w.terms.f(k);
-      for (int l = 0; l < b.nvr; ++l) s += w.terms.M(k, l) * yp[vo + 3 + l];
-      F[vo + 3 + k] = s;
+      for (int l = 0; l < b.nvr; ++l) s += w.terms.M(k, l) * yp[vr + l];
+      F[vr + k] = s;
     }
   }
   for (const auto& f : forces_) f->add_force(force_bodies_, F);
@@ -426,18 +431,19 @@ void MultibodyProblem::assemble_jacobian(double t, double cj, const double* y, c
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const BodyModel& b = bodies_[i];
     BodyWork& w = work_[i];
-    const VecQ qr = ConstMap(w.st.q + 3, b.nqr);
-    const VecV vr = ConstMap(w.st.v + 3, b.nvr);
-    const VecV ar = ConstMap(yp + groups_[b.v_group].offset + 3, b.nvr);
+    const int o = b.nx;
+    const VecQ qr = ConstMap(w.st.q + o, b.nqr);
+    const VecV vr = ConstMap(w.st.v + o, b.nvr);
+    const VecV ar = ConstMap(yp + groups_[b.v_group].offset + o, b.nvr);
     b.rep->differentiate(t, qr, vr, ar, w.derivs);
     const int Q = b.q_group, V = b.v_group;
     sink.add_diagonal(Q, cj);
-    sink.add(Q, Q, 3, 3, -w.derivs.qdot_q);
-    sink.add(Q, V, 0, 0, -Mat3::Identity());
-    sink.add(Q, V, 3, 3, -w.derivs.N);
-    sink.add(V, Q, 3, 3, w.derivs.Ma_q - w.derivs.f_q);
-    sink.add(V, V, 0, 0, (cj * b.mass) * Mat3::Identity());
-    sink.add(V, V, 3, 3, cj * w.terms.M - w.derivs.f_v);
+    sink.add(Q, Q, o, o, -w.derivs.qdot_q);
+    if (o == 3) sink.add(Q, V, 0, 0, -Mat3::Identity());
+    sink.add(Q, V, o, o, -w.derivs.N);
+    sink.add(V, Q, o, o, w.derivs.Ma_q - w.derivs.f_q);
+    if (o == 3) sink.add(V, V, 0, 0, (cj * b.mass) * Mat3::Identity());
+    sink.add(V, V, o, o, cj * w.terms.M - w.derivs.f_v);
   }
   for (const auto& f : forces_) f->add_jacobian(force_bodies_, sink);
   BlockMatQ Aq;

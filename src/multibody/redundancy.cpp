@@ -47,10 +47,10 @@ void MultibodyProblem::physical_start(Eigen::VectorXd& y) const {
     VecV v;
     b.rep->from_physical(bs.R0_WB, bs.omega0_B, q, v);
     const int qo = groups_[b.q_group].offset, vo = groups_[b.v_group].offset;
-    y.segment(qo, 3) = bs.x0_W;
-    y.segment(qo + 3, b.nqr) = q;
-    y.segment(vo, 3) = bs.v0_W;
-    y.segment(vo + 3, b.nvr) = v;
+    y.segment(qo, b.nx) = bs.x0_W.head(b.nx);  // a pivoted body has no x
+    y.segment(qo + b.nx, b.nqr) = q;
+    y.segment(vo, b.nx) = bs.v0_W.head(b.nx);
+    y.segment(vo + b.nx, b.nvr) = v;
   }
 }
 
@@ -85,9 +85,10 @@ void MultibodyProblem::find_redundant_rows(const Scene& scene, std::vector<std::
   rep.rows = static_cast<int>(refs.size());
   // Gruebler-Kutzbach: each joint removes 6 minus the freedoms its type states
   // (model/joint_type.hpp), the rows it has before any are set aside.
-  // A particle counts 3 (it has no rotations): 3 n_p + 6 n_b - rows.
+  // A particle counts 3 (it has no rotations): 3 n_p + 6 n_b - rows; a
+  // pivot holds like a spherical joint to the ground (3 fewer).
   rep.gruebler_dof = 0;
-  for (const BodyModel& b : bodies_) rep.gruebler_dof += b.particle ? 3 : 6;
+  for (const BodyModel& b : bodies_) rep.gruebler_dof += (b.particle ? 3 : 6) - (b.pivoted() ? 3 : 0);
   for (const JointSpec& js : spec_.joints) rep.gruebler_dof -= 6 - js.type->freedoms.total();
   rep.gruebler_dof -= static_cast<int>(spec_.drivers.size());
   rep.rank_dof = nv_total_;
@@ -260,15 +261,15 @@ void MultibodyProblem::check_redundant_rows(double t0) {
       if (pass == 1) {
         for (std::size_t i = 0; i < bodies_.size(); ++i) {
           const UnknownGroup& g = groups_[bodies_[i].v_group];
-          for (int k = 0; k < g.size; ++k) y(g.offset + k) = normal(rng) * (k < 3 ? L : 1.0);
+          for (int k = 0; k < g.size; ++k) y(g.offset + k) = normal(rng) * (k < bodies_[i].nx ? L : 1.0);
         }
         project(t0, y, yp);
       }
       double s = 0.0;
       for (const BodyModel& b : bodies_) {
         const UnknownGroup& g = groups_[b.q_group];
-        s = std::max(s, yp.segment(g.offset, 3).norm() / L);
-        if (b.nqr > 0) s = std::max(s, yp.segment(g.offset + 3, b.nqr).cwiseAbs().maxCoeff());
+        if (b.nx > 0) s = std::max(s, yp.segment(g.offset, b.nx).norm() / L);
+        if (b.nqr > 0) s = std::max(s, yp.segment(g.offset + b.nx, b.nqr).cwiseAbs().maxCoeff());
       }
       if (!(s > 1e-12) || !std::isfinite(s)) continue;
       const double h = kNearbyStep / s;

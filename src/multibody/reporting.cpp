@@ -30,23 +30,28 @@ using ConstMap = Eigen::Map<const Eigen::VectorXd>;
 
 Vec4 MultibodyProblem::body_orientation(int i, const double* y) const {
   const BodyModel& b = bodies_[i];
-  return b.rep->orientation(ConstMap(y + groups_[b.q_group].offset + 3, b.nqr));
+  return b.rep->orientation(ConstMap(y + groups_[b.q_group].offset + b.nx, b.nqr));
 }
 
 Vec3 MultibodyProblem::body_omega_space(int i, const double* y) const {
   const BodyModel& b = bodies_[i];
-  const VecQ q = ConstMap(y + groups_[b.q_group].offset + 3, b.nqr);
-  const VecV v = ConstMap(y + groups_[b.v_group].offset + 3, b.nvr);
+  const VecQ q = ConstMap(y + groups_[b.q_group].offset + b.nx, b.nqr);
+  const VecV v = ConstMap(y + groups_[b.v_group].offset + b.nx, b.nvr);
   const Vec4 qu = b.rep->orientation(q);
   return so3::quaternion_to_matrix(qu) * b.rep->body_angular_velocity(q, v);
 }
 
 Vec3 MultibodyProblem::body_position(int i, const double* y) const {
-  return ConstMap(y + groups_[bodies_[i].q_group].offset, 3);
+  const BodyModel& b = bodies_[i];
+  if (b.pivoted()) return b.pivot + so3::quaternion_to_matrix(body_orientation(i, y)) * b.lever;
+  return ConstMap(y + groups_[b.q_group].offset, 3);
 }
 
 Vec3 MultibodyProblem::body_velocity(int i, const double* y) const {
-  return ConstMap(y + groups_[bodies_[i].v_group].offset, 3);
+  const BodyModel& b = bodies_[i];
+  if (b.pivoted())  // omega x (R c)
+    return body_omega_space(i, y).cross(so3::quaternion_to_matrix(body_orientation(i, y)) * b.lever);
+  return ConstMap(y + groups_[b.v_group].offset, 3);
 }
 
 JointReaction MultibodyProblem::joint_reaction(int joint, const double* y) {
@@ -130,8 +135,8 @@ double MultibodyProblem::kinetic_energy(const double* y) const {
   double T = 0.0;
   for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) {
     const BodyModel& b = bodies_[i];
-    const VecQ q = ConstMap(y + groups_[b.q_group].offset + 3, b.nqr);
-    const VecV v = ConstMap(y + groups_[b.v_group].offset + 3, b.nvr);
+    const VecQ q = ConstMap(y + groups_[b.q_group].offset + b.nx, b.nqr);
+    const VecV v = ConstMap(y + groups_[b.v_group].offset + b.nx, b.nvr);
     const Vec3 w = b.rep->body_angular_velocity(q, v);
     T += 0.5 * b.mass * body_velocity(i, y).squaredNorm() + 0.5 * w.dot(b.inertia * w);
   }
@@ -204,8 +209,8 @@ Vec3 MultibodyProblem::angular_momentum(const double* y) const {
   Vec3 L = Vec3::Zero();
   for (int i = 0; i < static_cast<int>(bodies_.size()); ++i) {
     const BodyModel& b = bodies_[i];
-    const VecQ q = ConstMap(y + groups_[b.q_group].offset + 3, b.nqr);
-    const VecV v = ConstMap(y + groups_[b.v_group].offset + 3, b.nvr);
+    const VecQ q = ConstMap(y + groups_[b.q_group].offset + b.nx, b.nqr);
+    const VecV v = ConstMap(y + groups_[b.v_group].offset + b.nx, b.nvr);
     const Mat3 R = so3::quaternion_to_matrix(b.rep->orientation(q));
     L += body_position(i, y).cross(b.mass * body_velocity(i, y)) + R * (b.inertia * b.rep->body_angular_velocity(q, v));
   }
@@ -269,6 +274,9 @@ void joint_coordinate_columns(const MultibodySpec& spec, const std::vector<int>&
 // A marker's position, velocity and acceleration in space (markers.cpp).
 constexpr const char* kMarkerColumns[] = {"x", "y", "z", "vx", "vy", "vz", "ax", "ay", "az"};
 constexpr const char* kMarkerUnits[] = {"m", "m", "m", "m/s", "m/s", "m/s", "m/s^2", "m/s^2", "m/s^2"};
+// A pivoted body's support force (space, on the body at its pivot), after its body columns.
+constexpr const char* kPivotColumns[] = {"pivot_force_x", "pivot_force_y", "pivot_force_z"};
+constexpr const char* kPivotUnits[] = {"N", "N", "N"};
 constexpr const char* kGlobalColumns[] = {"energy", "p_x", "p_y", "p_z", "L_x", "L_y", "L_z"};
 constexpr const char* kGlobalUnits[] = {"J", "N s", "N s", "N s", "N m s", "N m s", "N m s"};
 
@@ -288,8 +296,11 @@ void MultibodyProblem::output_row(const double* y, double* out) {
 
 std::vector<std::string> MultibodyProblem::output_names(const RecordedParts& parts) const {
   std::vector<std::string> n;
-  for (int i : parts.bodies)
+  for (int i : parts.bodies) {
     for (const char* c : body_columns(bodies_[i])) n.push_back(bodies_[i].name + "." + c);
+    if (bodies_[i].pivoted())
+      for (const char* c : kPivotColumns) n.push_back(bodies_[i].name + "." + c);
+  }
   std::vector<std::string> units;
   for (int j : parts.joints) {
     for (const char* c : kJointColumns) n.push_back(spec_.joints[j].name + "." + c);
@@ -306,6 +317,7 @@ std::vector<std::string> MultibodyProblem::output_units(const RecordedParts& par
   for (int i : parts.bodies) {
     const auto units = body_units(bodies_[i]);
     u.insert(u.end(), units.begin(), units.end());
+    if (bodies_[i].pivoted()) u.insert(u.end(), std::begin(kPivotUnits), std::end(kPivotUnits));
   }
   std::vector<std::string> names;
   for (int j : parts.joints) {
@@ -318,10 +330,19 @@ std::vector<std::string> MultibodyProblem::output_units(const RecordedParts& par
 }
 
 void MultibodyProblem::output_row(const double* y, const RecordedParts& parts, double* out) {
-  // One evaluation of every body serves all joints (O(bodies + joints)).
+  // The support forces first (each evaluates the system itself), then one
+  // evaluation of every body serves all joints (O(bodies + joints)).
+  int k = 0;
+  for (int i : parts.bodies) {
+    k += static_cast<int>(std::size(kBodyColumns));
+    if (bodies_[i].pivoted()) {
+      const Vec3 f = support_force(i, y);
+      for (int c = 0; c < 3; ++c) out[k++] = f(c);
+    }
+  }
   evaluate(0.0, y, 2);
   evaluated_y_ = y;
-  int k = 0;
+  k = 0;
   for (int i : parts.bodies) {
     const Vec4 q = body_orientation(i, y);
     const Vec3 w = body_omega_space(i, y), x = body_position(i, y), v = body_velocity(i, y);
@@ -331,6 +352,7 @@ void MultibodyProblem::output_row(const double* y, const RecordedParts& parts, d
     }
     for (const Vec3* a : {&x, &v})
       for (int c = 0; c < 3; ++c) out[k++] = (*a)(c);
+    if (bodies_[i].pivoted()) k += 3;
   }
   for (int j : parts.joints) {
     const JointReaction r = joint_reaction(j, y);
@@ -381,6 +403,9 @@ std::vector<std::string> MultibodyProblem::step_part_names(const RecordedParts& 
       for (const std::string& r : b.row_names) n.push_back(owner + ".mu_" + r);
   };
   for_chosen_internal_blocks(blocks_, parts.bodies, [&](int j) { multipliers(blocks_[j], bodies_[blocks_[j].body].name); });
+  for (int i : parts.bodies)
+    if (bodies_[i].pivoted())
+      for (const char* c : kPivotColumns) n.push_back(bodies_[i].name + "." + c);
   for (int joint : parts.joints) {
     const std::string& name = spec_.joints[joint].name;
     if (block_of_joint_[joint] >= 0) multipliers(blocks_[block_of_joint_[joint]], name);
@@ -400,6 +425,8 @@ std::vector<std::string> MultibodyProblem::step_part_units(const RecordedParts& 
     if (b.mu_group >= 0) u.insert(u.end(), b.row_names.size(), mu);
   };
   for_chosen_internal_blocks(blocks_, parts.bodies, [&](int j) { multipliers(blocks_[j], "J", "1/s"); });
+  for (int i : parts.bodies)
+    if (bodies_[i].pivoted()) u.insert(u.end(), std::begin(kPivotUnits), std::end(kPivotUnits));
   for (int joint : parts.joints) {
     if (block_of_joint_[joint] >= 0) multipliers(blocks_[block_of_joint_[joint]], "N|N m", "m/s|1/s");
     u.insert(u.end(), std::begin(kJointUnits), std::end(kJointUnits));
@@ -411,8 +438,6 @@ std::vector<std::string> MultibodyProblem::step_part_units(const RecordedParts& 
 }
 
 void MultibodyProblem::step_part_row(const double* y, const RecordedParts& parts, double* out) {
-  evaluate(0.0, y, 2);
-  evaluated_y_ = y;
   int k = 0;
   const auto multipliers = [&](const ConstraintBlock& b) {
     for (int g : {b.lambda_group, b.mu_group})
@@ -420,6 +445,13 @@ void MultibodyProblem::step_part_row(const double* y, const RecordedParts& parts
         for (int r = 0; r < b.nr; ++r) out[k++] = y[groups_[g].offset + r];
   };
   for_chosen_internal_blocks(blocks_, parts.bodies, [&](int j) { multipliers(blocks_[j]); });
+  for (int i : parts.bodies)
+    if (bodies_[i].pivoted()) {
+      const Vec3 f = support_force(i, y);  // evaluates the system itself
+      for (int c = 0; c < 3; ++c) out[k++] = f(c);
+    }
+  evaluate(0.0, y, 2);
+  evaluated_y_ = y;
   for (int joint : parts.joints) {
     if (block_of_joint_[joint] >= 0) multipliers(blocks_[block_of_joint_[joint]]);
     const JointReaction r = joint_reaction(joint, y);

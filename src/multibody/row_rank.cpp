@@ -47,7 +47,7 @@ SparseL scaled_transpose(const std::vector<ForceRowRef>& rows, const std::vector
     const ForceRowRef& f = rows[c];
     if (f.joint < 0) {
       const MatCV& G = *internal_G(f.body);
-      const int o = velocity_offset[f.body] + 3;
+      const int o = velocity_offset[f.body] + bodies[f.body].nx;  // after its translations (none when pivoted)
       for (int k = 0; k < bodies[f.body].nvr; ++k)
         if (G(f.index, k) != 0.0) trip.emplace_back(o + k, c, G(f.index, k));
       continue;

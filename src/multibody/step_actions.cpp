@@ -23,7 +23,7 @@ void MultibodyProblem::event_functions(double /*t*/, const double* y, double* g)
   int k = 0;
   for (const BodyModel& b : bodies_) {
     if (!b.rep->has_charts()) continue;
-    const VecQ q = ConstMap(y + groups_[b.q_group].offset + 3, b.nqr);
+    const VecQ q = ConstMap(y + groups_[b.q_group].offset + b.nx, b.nqr);
     g[k++] = b.rep->chart_margin(q) - switch_threshold_;
   }
 }
@@ -33,7 +33,7 @@ bool MultibodyProblem::change_charts(double t, Eigen::VectorXd& y, Eigen::Vector
   bool changed = false;
   for (BodyModel& b : bodies_) {
     if (!b.rep->has_charts()) continue;
-    const int qo = groups_[b.q_group].offset + 3, vo = groups_[b.v_group].offset + 3;
+    const int qo = groups_[b.q_group].offset + b.nx, vo = groups_[b.v_group].offset + b.nx;
     VecQ q = y.segment(qo, b.nqr);
     VecV v = y.segment(vo, b.nvr);
     const double margin = b.rep->chart_margin(q);
@@ -71,7 +71,7 @@ StepAction MultibodyProblem::on_event(double t, double h, Eigen::VectorXd& y, Ei
   if (!switching_) {
     for (const BodyModel& b : bodies_) {
       if (!b.rep->has_charts()) continue;
-      const VecQ q = y.segment(groups_[b.q_group].offset + 3, b.nqr);
+      const VecQ q = y.segment(groups_[b.q_group].offset + b.nx, b.nqr);
       const double margin = b.rep->chart_margin(q);
       if (margin > switch_threshold_ * 1.001) continue;
       a.kind = StepAction::Kind::Fail;

@@ -46,6 +46,17 @@ struct BodySpec {
   Mat3 R0_WB = Mat3::Identity();   // an exact rotation after loading
   Vec3 v0_W = Vec3::Zero();        // m/s, centre-of-mass velocity in space
   Vec3 omega0_B = Vec3::Zero();    // rad/s, angular velocity in body components
+  // Held at a fixed point (scene key `pivot`, m, space): the body only turns
+  // about it, its unknowns are its rotation coordinates and velocities (the
+  // one-body model of a top), and the support force is reported. Set: x0_W
+  // stays the centre of mass (its distance from the pivot is fixed) and
+  // v0_W = omega x (x0_W - pivot_W).
+  std::optional<Vec3> pivot_W;
+  // With a pivot: the pivot -> centre of mass vector in the body frame (m);
+  // unset: R0_WB^T (x0_W - pivot_W). A one-body scene sets it to its
+  // center_of_mass exactly (model/one_body_system.hpp), so the rotation block
+  // is the one-body model's bit for bit.
+  std::optional<Vec3> com_from_pivot_B;
   // Per-body override of the scene's coordinates (unset: the formulation's).
   std::optional<Coordinates> coordinates;
   std::vector<VisualShape> visuals;  // how to draw it (none: its inertia ellipsoid); body frame

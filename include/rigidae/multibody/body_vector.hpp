@@ -18,13 +18,20 @@
 //   db/dv:       Lagrange col k = 2 sum_m R_km s v_m;     Euler -R (hat(Omega x s) + hat(Omega) hat(s))
 // A point adds the identity on x (and x') to U and W, and nothing else.
 // The ground (body kGround) has no unknowns: its vectors are constants.
+//
+// A pivoted body (BodySpec::pivot_W) has no x: its unknowns are q_rot and
+// v_rot only (nx = 0) and it turns about the fixed pivot o. Its points are
+// p = o + R (c + s), c the pivot -> centre of mass vector in the body frame
+// and s (as for every body) from the centre of mass: the formulas above hold
+// with s replaced by the lever c + s, without the identity on x. Its
+// directions are unchanged. x() is then its centre of mass o + R c.
 #include "rigidae/core/types.hpp"
 #include "rigidae/model/multibody_spec.hpp"
 #include "rigidae/multibody/rotation_map.hpp"
 
 namespace rigidae::multibody {
 
-// Unknowns of one body: 3 + up to 9 coordinates, 3 + up to 9 velocities.
+// Unknowns of one body: 3 (none when pivoted) + up to 9 coordinates, as many + up to 9 velocities.
 inline constexpr int kMaxBodyQ = 12;
 inline constexpr int kMaxBodyV = 12;
 using BodyVecQ = BoundedVec<kMaxBodyQ>;
@@ -39,14 +46,20 @@ using RowBV = BoundedMat<1, kMaxBodyV>;
 // partials, and the form. Filled by the assembler, read by joints and forces.
 struct BodyState {
   bool lagrange = true;
+  int nx = 3;            // translation unknowns: 3 (free body), 0 (pivoted)
   int nqr = 0, nvr = 0;  // rotation coordinates and velocities
-  const double* q = nullptr;  // (x, q_rot), 3 + nqr
-  const double* v = nullptr;  // (x', v_rot), 3 + nvr
+  const double* q = nullptr;  // (x, q_rot), nx + nqr
+  const double* v = nullptr;  // (x', v_rot), nx + nvr
+  Vec3 pivot = Vec3::Zero();  // pivoted: the fixed point o in space
+  Vec3 lever = Vec3::Zero();  // pivoted: c, pivot -> centre of mass, body frame (0 for a free body)
   RotationPartials P;
-  int nq() const { return 3 + nqr; }
-  int nv() const { return 3 + nvr; }
-  Vec3 x() const { return Vec3(q[0], q[1], q[2]); }
-  Vec3 omega() const { return Vec3(v[3], v[4], v[5]); }  // Euler form only
+  int nq() const { return nx + nqr; }
+  int nv() const { return nx + nvr; }
+  // The centre of mass in space (a pivoted body's needs P evaluated).
+  Vec3 x() const { return nx == 3 ? Vec3(q[0], q[1], q[2]) : Vec3(pivot + P.R * lever); }
+  Vec3 omega() const { return Vec3(v[nx], v[nx + 1], v[nx + 2]); }  // Euler form only
+  // The lever of a body vector: s from the centre of mass, c + s from a pivot.
+  Vec3 lever_of(const BodyVector& bv) const { return bv.point && nx == 0 ? Vec3(lever + bv.s) : bv.s; }
 };
 
 // A vector fixed in a body (or in space, for the ground): model/constraint_row.hpp.

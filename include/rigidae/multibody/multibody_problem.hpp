@@ -4,6 +4,9 @@
 //
 // Unknowns, body by body then block by block:
 //   body i:  q_i = (x_i, q_rot,i), v_i = (x_i', v_rot,i)   (differential)
+//            pivoted body (BodySpec::pivot_W): q_i = q_rot,i, v_i = v_rot,i
+//            only, its rotation block the one-body model about the pivot
+//            (src/multibody/pivot.cpp, body_vector.hpp)
 //   block j: lambda_j, mu_j                                 (algebraic)
 // Body rows: kinematics x' - x_v = 0, q_rot' - N v_rot (+ Phi_q^T mu) = 0 and
 // dynamics m x_v' - f_x = 0, M v_rot' - f_rot (+ G^T lambda) = 0, where the
@@ -90,6 +93,14 @@ struct BodyModel {
   std::unique_ptr<RotationMap> map;
   int q_group = 0, v_group = 0;  // groups of the unknowns
   int nqr = 0, nvr = 0;
+  // Pivoted (held at a fixed point, src/multibody/pivot.cpp): no x unknowns
+  // (nx = 0), the rotation block about the pivot (inertia about it, gravity
+  // torque through lever), lever = c the pivot -> centre of mass vector in
+  // the body frame.
+  int nx = 3;
+  bool pivoted() const { return nx == 0; }
+  Vec3 pivot = Vec3::Zero();
+  Vec3 lever = Vec3::Zero();
 };
 
 struct ConstraintBlock {
@@ -111,6 +122,12 @@ struct ConstraintBlock {
   LevelWeights lambda_rows, mu_rows;
   int body_of_side[2] = {kGround, kGround};
 };
+
+// A pivoted body's model (src/multibody/pivot.cpp): nx = 0, the pivot, the
+// lever c = R0^T (x0 - pivot); the one-body scene of its rotation block gets
+// support "fixed_point" and centre of mass c (inertia about the pivot,
+// gravity torque).
+void pivot_body_scene(const BodySpec& bs, Scene& one_body, BodyModel& b);
 
 // Reaction of a joint on its body b (on a when b is the ground), in space:
 // the force at b's joint point (N) and the torque about that point (N m).
@@ -218,6 +235,10 @@ class MultibodyProblem final : public DaeProblem {
   Vec3 body_omega_space(int i, const double* y) const;     // rad/s
   Vec3 body_position(int i, const double* y) const;        // m
   Vec3 body_velocity(int i, const double* y) const;        // m/s
+  // The support force on pivoted body i, at its pivot, in space (N): from
+  // m a_c = F_support + m g + the other forces on it (src/multibody/pivot.cpp);
+  // zero for a free body. The support exerts no torque about the pivot.
+  Vec3 support_force(int i, const double* y);
   // For a joint whose reaction the constraints do not determine (in
   // redundancy().indeterminate_joints), the minimum-norm split over the
   // dependency's rows (src/multibody/minimum_norm_reactions.cpp).
@@ -236,7 +257,8 @@ class MultibodyProblem final : public DaeProblem {
   Vec3 linear_momentum(const double* y) const;
   Vec3 angular_momentum(const double* y) const;  // about the space origin
   // One output row: per body (BODY.qw .. qz, BODY.wx .. wz in space,
-  // BODY.x .. z, BODY.vx .. vz), per joint (JOINT.force_x .. z, JOINT.torque_x
+  // BODY.x .. z, BODY.vx .. vz; a pivoted body then BODY.pivot_force_x .. z,
+  // support_force), per joint (JOINT.force_x .. z, JOINT.torque_x
   // .. z on body b in space, JOINT.residual_position = |Phi|,
   // JOINT.residual_velocity = |G v|, then per coordinate of its type
   // JOINT.<coordinate>, JOINT.<coordinate>_rate), per marker MARKER.x..z,
@@ -253,7 +275,8 @@ class MultibodyProblem final : public DaeProblem {
   void output_row(const double* y, const RecordedParts& parts, double* out);
   // A step row's per-part columns (reporting.cpp), after the global ones: per
   // chosen body with constraints of its own BODY.lambda_<row> / BODY.mu_<row>
-  // (its multipliers), per chosen joint JOINT.lambda_<row> / JOINT.mu_<row>,
+  // (its multipliers), per chosen pivoted body BODY.pivot_force_x .. z, per
+  // chosen joint JOINT.lambda_<row> / JOINT.mu_<row>,
   // JOINT.force_x..z, JOINT.torque_x..z, the residuals and the coordinates
   // (as output_row). `parts` lists bodies and joints in the scene's order.
   std::vector<std::string> step_part_names(const RecordedParts& parts) const;
@@ -421,6 +444,12 @@ class MultibodyProblem final : public DaeProblem {
   double largest_dependency_ = 0.0;
   std::unique_ptr<BlockEval> dropped_eval_;
   MinimumNormReactions minimum_norm_;
+  // support_force's scratch: a residual row (plus one free body's), y' = 0,
+  // the force elements' view with one body made free, a block's rows (on
+  // the heap: a BlockEval is large, and problems live on callers' stacks).
+  Eigen::VectorXd pivot_F_, pivot_yp_;
+  ForceBodies pivot_bodies_;
+  std::unique_ptr<BlockEval> pivot_eval_;
   std::vector<EventNote> events_;
   const double* evaluated_y_ = nullptr;  // output_row: the bodies are evaluated at this y
   // drift()'s last answer and the (t, y) it was for (y copied: the driver

@@ -14,6 +14,9 @@
 // sum_e W(E_e)^T f_e in either form (Euler form: exactly R^T tau_W). A
 // body-frame torque uses f_e = 1/2 R (tau_B x E_e). A torque has no
 // potential that rigidae tracks, so a load with one is not conservative.
+// On a pivoted body (no x) the force acts at the centre of mass through the
+// lever R c: Q = W_c^T F, dQ/dq = dWtm_c(F) + W_c^T dF/dq (dF/dq: the
+// body-frame direction's D, else 0), W_c the centre of mass's velocity map.
 #include "rigidae/multibody/force_element.hpp"
 #include "rigidae/so3/rotation.hpp"
 
@@ -30,9 +33,14 @@ class BodyLoad final : public ForceElement {
     const BodyState& st = *b.of(load_.body);
     const int vo = b.v_offset[load_.body];
     const Vec3 f = load_.body_frame ? Vec3(st.P.R * load_.force) : load_.force;
-    for (int k = 0; k < 3; ++k) F[vo + k] -= f(k);
-    if (load_.torque.isZero(0.0)) return;
     VectorEval ev;
+    if (st.nx == 3) {
+      for (int k = 0; k < 3; ++k) F[vo + k] -= f(k);
+    } else {
+      evaluate_vector(st, {load_.body, Vec3::Zero(), true}, ev);
+      for (int k = 0; k < st.nv(); ++k) F[vo + k] -= ev.Wm.col(k).dot(f);
+    }
+    if (load_.torque.isZero(0.0)) return;
     for (int e = 0; e < 3; ++e) {
       evaluate_vector(st, {load_.body, Vec3::Unit(e), false}, ev);
       const Vec3 fe = load_.body_frame ? Vec3(0.5 * (st.P.R * load_.torque.cross(Vec3::Unit(e))))
@@ -48,7 +56,18 @@ class BodyLoad final : public ForceElement {
     VectorEval ev;
     MatBVQ H;
     Mat3BQ D;
-    if (load_.body_frame) {
+    if (st.nx == 0) {
+      VectorEval com;
+      evaluate_vector(st, {load_.body, Vec3::Zero(), true}, com);
+      Vec3 f = load_.force;
+      if (load_.body_frame) {
+        evaluate_vector(st, {load_.body, load_.force, false}, ev);
+        f = ev.value;
+      }
+      vector_dWtm_dq(st, {load_.body, Vec3::Zero(), true}, f, H);
+      if (load_.body_frame) H.noalias() += com.Wm.transpose() * ev.D;
+      sink.add(V, Q, 0, 0, -H);
+    } else if (load_.body_frame) {
       evaluate_vector(st, {load_.body, load_.force, false}, ev);
       sink.add(V, Q, 0, 0, -ev.D);
     }

@@ -2,6 +2,9 @@
 //   Q_x = m g (on x only: the frame's origin is the centre of mass, so no torque)
 //   dQ/dq = dQ/dv = 0
 //   V = -m g . x
+// A pivoted body (no x) is left out of Q: its rotation block carries the
+// gravity torque about the pivot (src/multibody/pivot.cpp); its potential
+// counts, x being its centre of mass.
 #include "rigidae/multibody/force_element.hpp"
 
 namespace rigidae::multibody {
@@ -12,7 +15,7 @@ class Gravity final : public ForceElement {
  public:
   void add_force(const ForceBodies& b, double* F) override {
     for (std::size_t i = 0; i < b.state.size(); ++i)
-      for (int k = 0; k < 3; ++k) F[b.v_offset[i] + k] -= b.mass[i] * b.gravity_W(k);
+      for (int k = 0; k < b.state[i]->nx; ++k) F[b.v_offset[i] + k] -= b.mass[i] * b.gravity_W(k);
   }
   void add_jacobian(const ForceBodies&, JacobianSink&) override {}
   double potential_energy(const ForceBodies& b) override {
