@@ -166,7 +166,8 @@ void MultibodyProblem::project(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp
     int row = 0;
     for (int j = 0; j < static_cast<int>(blocks_.size()); ++j)
       if (blocks_[j].kind == ConstraintKind::Force)
-        for (int r = 0; r < blocks_[j].nr; ++r) rate(row++) = block_eval_[j].Gv(r);
+        for (int r = 0; r < blocks_[j].nr; ++r)
+          if (blocks_[j].active[r]) rate(row++) = block_eval_[j].Gv(r);  // G's rows: the active ones
     solve_saddle(mass_matrix(bodies_, velocity_offset_, rot_mass, nv_total_), G,
                  Eigen::VectorXd::Zero(nv_total_), -rate, dv, nu);
     v += dv;

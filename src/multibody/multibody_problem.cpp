@@ -184,6 +184,7 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
     blk.driver = d;
     blk.kind = ConstraintKind::Force;
     blk.nr = 1;
+    blk.active.assign(1, 1);  // a driver's row is never set aside
     blk.row_names.push_back("drive_" + std::string(drivers_[d].coordinate->name));
     blk.body_of_side[0] = js.body_a;
     blk.body_of_side[1] = js.body_b;
