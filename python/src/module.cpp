@@ -210,14 +210,14 @@ class MultibodyMemory final : public StepSink {
     const double H = p_.kinetic_energy(y.data()) + p_.potential_energy(y.data());
     if (!have_H0_) H0_ = H, have_H0_ = true;
     steps_.insert(steps_.end(), {t, h, static_cast<double>(order), pos, vel, H, (H - H0_) / std::max(std::abs(H0_), 1.0)});
-    if (!part_row_.empty()) p_.step_part_row(y.data(), step_parts_, part_row_.data());
+    if (!part_row_.empty()) p_.step_part_row(t, y.data(), step_parts_, part_row_.data());
     steps_.insert(steps_.end(), part_row_.begin(), part_row_.end());
   }
   void on_output(double t, const Eigen::VectorXd& y) override {
     if (files_) files_->on_output(t, y);
     if (!have_H0_) H0_ = p_.kinetic_energy(y.data()) + p_.potential_energy(y.data()), have_H0_ = true;
     if (!keep_grid_) return;
-    p_.output_row(y.data(), grid_parts_, row_.data());
+    p_.output_row(t, y.data(), grid_parts_, row_.data());
     grid_.push_back(t);
     grid_.insert(grid_.end(), row_.begin(), row_.end());
   }

@@ -19,11 +19,11 @@
 
 namespace rigidae::multibody {
 
-void MultibodyProblem::marker_kinematics(const double* y, double* out) {
+void MultibodyProblem::marker_kinematics(double t, const double* y, double* out) {
   if (spec_.markers.empty()) return;
   marker_y_ = Eigen::Map<const Eigen::VectorXd>(y, n_);
-  make_consistent(0.0, marker_y_, marker_yp_);
-  evaluate(0.0, y, 2);
+  make_consistent(t, marker_y_, marker_yp_);  // at the row's time: a driver's row depends on it
+  evaluate(t, y, 2);
   VectorEval e;
   int k = 0;
   for (const MarkerSpec& m : spec_.markers) {

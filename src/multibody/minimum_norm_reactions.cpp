@@ -25,7 +25,8 @@
 // omega x (R s) for a direction, so its row holds
 //   on x'_a: c u_b (a point only),   on omega_a: c (R s_a) x u_b
 // and the same with a and b exchanged. A pivoted body has omega alone, a
-// point's lever measured from the pivot; a particle's omega columns are zero. Rows of joints outside S and bodies'
+// point's lever measured from the pivot; a particle's omega columns are zero.
+// Rows of joints outside S and bodies'
 // own rows do not enter: their multipliers are determined.
 #include <Eigen/QR>
 

@@ -290,8 +290,8 @@ std::vector<std::string> MultibodyProblem::output_units() const {
   return output_units(every_part(bodies_.size(), spec_.joints.size()));
 }
 
-void MultibodyProblem::output_row(const double* y, double* out) {
-  output_row(y, every_part(bodies_.size(), spec_.joints.size()), out);
+void MultibodyProblem::output_row(double t, const double* y, double* out) {
+  output_row(t, y, every_part(bodies_.size(), spec_.joints.size()), out);
 }
 
 std::vector<std::string> MultibodyProblem::output_names(const RecordedParts& parts) const {
@@ -329,7 +329,7 @@ std::vector<std::string> MultibodyProblem::output_units(const RecordedParts& par
   return u;
 }
 
-void MultibodyProblem::output_row(const double* y, const RecordedParts& parts, double* out) {
+void MultibodyProblem::output_row(double t, const double* y, const RecordedParts& parts, double* out) {
   // The support forces first (each evaluates the system itself), then one
   // evaluation of every body serves all joints (O(bodies + joints)).
   int k = 0;
@@ -340,7 +340,7 @@ void MultibodyProblem::output_row(const double* y, const RecordedParts& parts, d
       for (int c = 0; c < 3; ++c) out[k++] = f(c);
     }
   }
-  evaluate(0.0, y, 2);
+  evaluate(t, y, 2);
   evaluated_y_ = y;
   k = 0;
   for (int i : parts.bodies) {
@@ -364,9 +364,9 @@ void MultibodyProblem::output_row(const double* y, const RecordedParts& parts, d
     k += write_coordinates(j, y, out + k);
   }
   if (!spec_.markers.empty()) {
-    marker_kinematics(y, out + k);
+    marker_kinematics(t, y, out + k);
     k += 9 * static_cast<int>(spec_.markers.size());
-    evaluate(0.0, y, 2);
+    evaluate(t, y, 2);
   }
   out[k++] = kinetic_energy(y) + potential_energy(y);
   const Vec3 p = linear_momentum(y), L = angular_momentum(y);
@@ -437,7 +437,7 @@ std::vector<std::string> MultibodyProblem::step_part_units(const RecordedParts& 
   return u;
 }
 
-void MultibodyProblem::step_part_row(const double* y, const RecordedParts& parts, double* out) {
+void MultibodyProblem::step_part_row(double t, const double* y, const RecordedParts& parts, double* out) {
   int k = 0;
   const auto multipliers = [&](const ConstraintBlock& b) {
     for (int g : {b.lambda_group, b.mu_group})
@@ -450,7 +450,7 @@ void MultibodyProblem::step_part_row(const double* y, const RecordedParts& parts
       const Vec3 f = support_force(i, y);  // evaluates the system itself
       for (int c = 0; c < 3; ++c) out[k++] = f(c);
     }
-  evaluate(0.0, y, 2);
+  evaluate(t, y, 2);
   evaluated_y_ = y;
   for (int joint : parts.joints) {
     if (block_of_joint_[joint] >= 0) multipliers(blocks_[block_of_joint_[joint]]);
@@ -462,7 +462,7 @@ void MultibodyProblem::step_part_row(const double* y, const RecordedParts& parts
     out[k++] = phidot;
     k += write_coordinates(joint, y, out + k);
   }
-  marker_kinematics(y, out + k);
+  marker_kinematics(t, y, out + k);
   evaluated_y_ = nullptr;
 }
 

@@ -127,7 +127,7 @@ void MultibodyRecorder::on_step(double t, double h, int order, const Eigen::Vect
     o.drift = {pos, vel};
     o.energy = H;
     o.energy_error = err;
-    if (!step_values_.empty()) problem_.step_part_row(y.data(), step_parts_, step_values_.data());
+    if (!step_values_.empty()) problem_.step_part_row(t, y.data(), step_parts_, step_values_.data());
     steps_.write({t, h, order, &o, {}, step_values_});
   }
 }
@@ -136,7 +136,7 @@ void MultibodyRecorder::on_output(double t, const Eigen::VectorXd& y) {
   const bool row = trajectory_ && (seen_start_ || start_is_output_);
   seen_start_ = true;
   if (!row && have_H0_) return;
-  problem_.output_row(y.data(), grid_parts_, row_.data());
+  problem_.output_row(t, y.data(), grid_parts_, row_.data());
   if (!have_H0_) {
     H0_ = row_[energy_column_], have_H0_ = true;
     if (has_work_) work_.add(t, problem_.work_rate(t, y.data()));

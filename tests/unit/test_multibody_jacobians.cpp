@@ -9,6 +9,7 @@
 #include <random>
 #include <string>
 
+#include "multibody_differences.hpp"
 #include "alloc_counter.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
 #include "rigidae/schemes/scheme.hpp"
@@ -19,47 +20,13 @@ TEST_SUITE_BEGIN("unit");
 
 using namespace rigidae;
 using multibody::MultibodyProblem;
+using test::richardson_matrix;
+using test::row_relative_difference;
 
 namespace {
 
 const Coordinates kCoordinates[] = {Coordinates::EulerAngles, Coordinates::Quaternion, Coordinates::Linear};
 const Equations kEquations[] = {Equations::Lagrange, Equations::Euler};
-// Row-relative largest difference (rows are equations with their own units).
-double row_relative_difference(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
-  double worst = 0.0;
-  for (int i = 0; i < A.rows(); ++i) {
-    const double scale = std::max({A.row(i).cwiseAbs().maxCoeff(), B.row(i).cwiseAbs().maxCoeff(), 1e-300});
-    worst = std::max(worst, (A.row(i) - B.row(i)).cwiseAbs().maxCoeff() / scale);
-  }
-  return worst;
-}
-
-// dF/dy + cj dF/dy' by central differences, Richardson-extrapolated:
-// (4 D(d/2) - D(d)) / 3, d = 1e-3 max(1, |y_j|) (as in test_jacobians.cpp).
-Eigen::MatrixXd richardson_matrix(MultibodyProblem& p, double t, double cj, const Eigen::VectorXd& y,
-                                  const Eigen::VectorXd& yp) {
-  const int n = p.size();
-  Eigen::MatrixXd J(n, n);
-  Eigen::VectorXd Fp(n), Fm(n);
-  Eigen::VectorXd yy = y, yyp = yp;
-  const auto difference = [&](Eigen::VectorXd& x, int j, double d, bool in_yp) {
-    const double xj = x(j);
-    x(j) = xj + d;
-    p.residual(t, in_yp ? y.data() : x.data(), in_yp ? x.data() : yp.data(), Fp.data());
-    x(j) = xj - d;
-    p.residual(t, in_yp ? y.data() : x.data(), in_yp ? x.data() : yp.data(), Fm.data());
-    x(j) = xj;
-    return Eigen::VectorXd((Fp - Fm) / (2.0 * d));
-  };
-  for (int j = 0; j < n; ++j) {
-    const double d = 1e-3 * std::max(1.0, std::abs(y(j)));
-    J.col(j) = (4.0 * difference(yy, j, 0.5 * d, false) - difference(yy, j, d, false)) / 3.0;
-    const double dp = 1e-3 * std::max(1.0, std::abs(yp(j)));
-    J.col(j) += cj * (4.0 * difference(yyp, j, 0.5 * dp, true) - difference(yyp, j, dp, true)) / 3.0;
-  }
-  return J;
-}
-
 Eigen::MatrixXd sparse_to_dense(const SparsityPattern& p, const Eigen::VectorXd& values, int n) {
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(n, n);
   for (int c = 0; c < n; ++c)
@@ -75,7 +42,6 @@ constexpr double kMatrixTolerance = 1e-8;
 
 TEST_CASE("multibody: exact iteration matrix = differences, every joint x representation x form x scheme" * doctest::test_suite("slow")) {
   std::mt19937 rng(4242);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
   double worst = 0.0, worst_start_residual = 0.0;
   for (const JointType* jt : joint_types())  // every registered type (model/joint_type.hpp)
     for (Coordinates c : kCoordinates)
@@ -96,11 +62,7 @@ TEST_CASE("multibody: exact iteration matrix = differences, every joint x repres
           CHECK(F.cwiseAbs().maxCoeff() < 1e-10 * scale);
           for (int k = 0; k < 2; ++k) {
             Eigen::VectorXd yk = y, ypk = yp;
-            if (k == 1)
-              for (int i = 0; i < n; ++i) {
-                yk(i) += 0.05 * u(rng) * std::max(1.0, std::abs(y(i)));
-                ypk(i) += 0.05 * u(rng) * std::max(1.0, std::abs(yp(i)));
-              }
+            if (k == 1) test::perturb_state(rng, yk, ypk);
             const double cj = k == 0 ? 3.7 : 250.0;
             Eigen::MatrixXd dense(n, n);
             p.iteration_matrix_dense(0.2, cj, yk.data(), ypk.data(), dense.data());
@@ -194,7 +156,6 @@ Scene particle_chain(Coordinates c, Equations e, const std::string& scheme) {
 
 TEST_CASE("multibody: particles: exact iteration matrix = differences, every representation x form x scheme") {
   std::mt19937 rng(2211);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
   double worst = 0.0;
   for (Coordinates c : kCoordinates)
     for (Equations e : kEquations)
@@ -215,11 +176,7 @@ TEST_CASE("multibody: particles: exact iteration matrix = differences, every rep
         CHECK(F.cwiseAbs().maxCoeff() < 1e-10 * scale);
         for (int k = 0; k < 2; ++k) {
           Eigen::VectorXd yk = y, ypk = yp;
-          if (k == 1)
-            for (int i = 0; i < n; ++i) {
-              yk(i) += 0.05 * u(rng) * std::max(1.0, std::abs(y(i)));
-              ypk(i) += 0.05 * u(rng) * std::max(1.0, std::abs(yp(i)));
-            }
+          if (k == 1) test::perturb_state(rng, yk, ypk);
           const double cj = k == 0 ? 3.7 : 250.0;
           Eigen::MatrixXd dense(n, n);
           p.iteration_matrix_dense(0.2, cj, yk.data(), ypk.data(), dense.data());

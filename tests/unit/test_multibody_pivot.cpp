@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "multibody_differences.hpp"
 #include "rigidae/dae/dae_system.hpp"
 #include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
@@ -32,6 +33,8 @@ TEST_SUITE_BEGIN("unit");
 
 using namespace rigidae;
 using multibody::MultibodyProblem;
+using test::richardson_matrix;
+using test::row_relative_difference;
 
 namespace {
 
@@ -65,44 +68,9 @@ Scene pivoted_chain(const JointType* type, Coordinates c, Equations e, const std
   return s;
 }
 
-double row_relative_difference(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
-  double worst = 0.0;
-  for (int i = 0; i < A.rows(); ++i) {
-    const double scale = std::max({A.row(i).cwiseAbs().maxCoeff(), B.row(i).cwiseAbs().maxCoeff(), 1e-300});
-    worst = std::max(worst, (A.row(i) - B.row(i)).cwiseAbs().maxCoeff() / scale);
-  }
-  return worst;
-}
-
-// dF/dy + cj dF/dy' by central differences, Richardson-extrapolated (as in
-// test_multibody_jacobians.cpp).
-Eigen::MatrixXd richardson_matrix(MultibodyProblem& p, double t, double cj, const Eigen::VectorXd& y,
-                                  const Eigen::VectorXd& yp) {
-  const int n = p.size();
-  Eigen::MatrixXd J(n, n);
-  Eigen::VectorXd Fp(n), Fm(n), yy = y, yyp = yp;
-  const auto difference = [&](Eigen::VectorXd& x, int j, double d, bool in_yp) {
-    const double xj = x(j);
-    x(j) = xj + d;
-    p.residual(t, in_yp ? y.data() : x.data(), in_yp ? x.data() : yp.data(), Fp.data());
-    x(j) = xj - d;
-    p.residual(t, in_yp ? y.data() : x.data(), in_yp ? x.data() : yp.data(), Fm.data());
-    x(j) = xj;
-    return Eigen::VectorXd((Fp - Fm) / (2.0 * d));
-  };
-  for (int j = 0; j < n; ++j) {
-    const double d = 1e-3 * std::max(1.0, std::abs(y(j)));
-    J.col(j) = (4.0 * difference(yy, j, 0.5 * d, false) - difference(yy, j, d, false)) / 3.0;
-    const double dp = 1e-3 * std::max(1.0, std::abs(yp(j)));
-    J.col(j) += cj * (4.0 * difference(yyp, j, 0.5 * dp, true) - difference(yyp, j, dp, true)) / 3.0;
-  }
-  return J;
-}
-
 // The exact matrix against differences at the start and at a perturbed
 // state; returns the largest row-relative difference.
 double matrix_difference(MultibodyProblem& p, std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
   const int n = p.size();
   Eigen::VectorXd y, yp;
   p.initial_state(0.0, y, yp);
@@ -113,11 +81,7 @@ double matrix_difference(MultibodyProblem& p, std::mt19937& rng) {
   double worst = 0.0;
   for (int k = 0; k < 2; ++k) {
     Eigen::VectorXd yk = y, ypk = yp;
-    if (k == 1)
-      for (int i = 0; i < n; ++i) {
-        yk(i) += 0.05 * u(rng) * std::max(1.0, std::abs(y(i)));
-        ypk(i) += 0.05 * u(rng) * std::max(1.0, std::abs(yp(i)));
-      }
+    if (k == 1) test::perturb_state(rng, yk, ypk);
     const double cj = k == 0 ? 3.7 : 250.0;
     Eigen::MatrixXd dense(n, n);
     p.iteration_matrix_dense(0.2, cj, yk.data(), ypk.data(), dense.data());

@@ -267,12 +267,12 @@ class MultibodyProblem final : public DaeProblem {
   // the origin. Names and units in the same order.
   std::vector<std::string> output_names() const;
   std::vector<std::string> output_units() const;
-  void output_row(const double* y, double* out);
+  void output_row(double t, const double* y, double* out);
   // The same row for the chosen parts only (trajectory.csv under [output]
   // bodies / joints): their body and joint columns, then the global ones.
   std::vector<std::string> output_names(const RecordedParts& parts) const;
   std::vector<std::string> output_units(const RecordedParts& parts) const;
-  void output_row(const double* y, const RecordedParts& parts, double* out);
+  void output_row(double t, const double* y, const RecordedParts& parts, double* out);
   // A step row's per-part columns (reporting.cpp), after the global ones: per
   // chosen body with constraints of its own BODY.lambda_<row> / BODY.mu_<row>
   // (its multipliers), per chosen pivoted body BODY.pivot_force_x .. z, per
@@ -284,7 +284,7 @@ class MultibodyProblem final : public DaeProblem {
   // Fills out[0 .. step_part_names(parts).size()); allocates nothing unless
   // the scene has markers (their accelerations are solved per row), whose
   // columns MARKER.x..az come last.
-  void step_part_row(const double* y, const RecordedParts& parts, double* out);
+  void step_part_row(double t, const double* y, const RecordedParts& parts, double* out);
   // Joint coordinates (model/joint_type.hpp): the coordinates of joint j,
   // in its type's order, at y: values (rad, unwrapped against the branch
   // followed from the start; m) and rates (rad/s; m/s). Allocates nothing.
@@ -308,7 +308,7 @@ class MultibodyProblem final : public DaeProblem {
   // numbers each, into out; the accelerations solved from the state y.
   // Not the hot path: one sparse factorisation per call (the output row's
   // and the step row's MARKER.x..az).
-  void marker_kinematics(const double* y, double* out);
+  void marker_kinematics(double t, const double* y, double* out);
   // Position- and velocity-level drift over all blocks (max norms).
   std::pair<double, double> drift(double t, const double* y);
   // Projects y onto Phi = 0 (Gauss-Newton, least change in the mass metric)
