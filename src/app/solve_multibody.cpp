@@ -208,6 +208,7 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
       poses.push_back({{"t", sp.t}, {"joints", sp.joints}, {"condition", sp.condition}});
     j["row_subset"] = {{"changes", problem.subset_changes()},
                        {"largest_dependency", problem.largest_dependency()},
+                       {"largest_amplification", problem.largest_amplification()},
                        {"set_aside_at_end", now},
                        {"singular_poses", poses}};
     if (!rr.mobility_warning.empty())

@@ -363,6 +363,7 @@ void MultibodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
     subset_baseline_ = start_baseline_;
     subset_changes_ = 0;
     largest_dependency_ = 0.0;
+    largest_amplification_ = 0.0;
   }
   // Force elements' own state (a torsion angle starts on its principal branch).
   for (const auto& f : forces_) f->reset();

@@ -250,7 +250,7 @@ void MultibodyOde::after_step(double t, const double* x) {
   problem_.follow_motion(t, y_drift_.data());
   // The independent subset of the rows (row_subset.cpp): the state holds no
   // multipliers, so a new subset only changes the next KKT factorisation.
-  problem_.check_row_subset(t, y_drift_.data());
+  problem_.check_row_subset(t, y_drift_.data(), /*multipliers_in_y=*/false);
 }
 
 long MultibodyOde::fresh_factorisations() const { return klu_ ? klu_->fresh_factorisations() : 0; }

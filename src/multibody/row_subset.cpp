@@ -12,14 +12,31 @@
 // rows alone lose rank |alpha| -> infinity (the multipliers of the kept
 // rows, the particular solution, follow it and Newton fails). Bricard's 6R
 // loop does this at theta_1 = 0 (measured: |alpha| and the multiplier of H2
-// grow like 1/|theta_1| before IDA fails at t = 1.634 s).
+// grow like 1/|theta_1| before IDA fails at t = 1.38 s in ggl).
+//
+// Ill-conditioned kept rows matter only where load passes through the
+// dependency. The amplification
+//   A = |mu_K| / |mu*|,   mu_K = S^-1 lambda_K (the kept multipliers in the
+//   scaled units),  mu* = (S G^T)^+ (S G_K^T mu_K)  (the minimum-norm
+//   multipliers over all rows giving the same generalized force G^T lambda),
+// says by how much the choice of rows inflates the multipliers: 1 when the
+// dependency carries no load (a planar linkage's out-of-plane rows: the
+// driven crank-slider's |alpha| passes 235 at a regular pose with A = 1),
+// growing with |alpha| where it does (Bricard: A = 2.8 at |alpha| = 10,
+// 41 at 143 just before IDA fails). A new choice is not free: it restarts
+// the integrator, and a restarted IDA with index1's multipliers (left out of
+// the error test) can carry an alternating error in them that grows x1.33
+// per step (measured on the driven crank-slider after a restart alone, same
+// rows: driving torque 1e-4 off; without the restart 1e-9).
 //
 // The check, after every accepted step of a mechanism with rows set aside:
 // max |alpha| > kMaxDependency times its value right after the last choice
 // (at least 1: with several dependencies the best choice may leave some
-// |alpha| above 1), or a relative least-squares residual above
-// kMaxResidual (the set-aside row became independent: the rank went up,
-// e.g. a singular start left behind), chooses the subset again at y:
+// |alpha| above 1) and A > kMaxAmplification (read from y's multipliers;
+// the ODE form, whose state holds none, uses |alpha| alone), or a relative
+// least-squares residual above kMaxResidual (the set-aside row became
+// independent: the rank went up, e.g. a singular start left behind),
+// chooses the subset again at y:
 // SuiteSparseQR's rank at the start's threshold gives how many rows to set
 // aside and a basis N of the dependencies (rows x dependencies, N_D = -I,
 // N_K = alpha); the rows set aside are then the pivots of a column-pivoted QR
@@ -27,17 +44,20 @@
 // with the largest |N_k|, so afterwards every |alpha| <= 1). The bodies' own
 // rows (Lagrange form) are never set aside.
 //
-// Singular poses: |alpha| sees only the rows set aside; when the kept rows
-// themselves lose rank together (a parallelogram four-bar reaching its
-// collinear pose: in-plane rows, while the rows set aside are out-of-plane
-// ones) no choice of rows helps. The watch: min |R_kk| / max |R_kk| of a
-// column-pivoted QR of S G_K^T, relative to its value at the first check,
-// below kSingularCondition is a singular pose, noted once per approach
-// (singular_poses(), an event "singular_pose" naming the joints of the
-// nearly vanishing combination of rows, margin = that relative ratio):
-// assembly branches cross there and the run may leave its branch, which
-// rigidae cannot tell in general; the caller warns. Only in mechanisms with
-// rows set aside (where the check runs anyway), when S G^T is small.
+// Singular poses: a rank loss of the WHOLE set of rows (a parallelogram
+// four-bar reaching its collinear pose: in-plane rows, while the rows set
+// aside are out-of-plane ones), where no choice of rows helps. The watch:
+// |R_rr| / |R_11| of a column-pivoted QR of all of S G^T, r the start's
+// rank (the r-th pivot: how far the rows are from rank r - 1), relative to
+// its value at the first check, below kSingularCondition is a singular pose,
+// noted once per approach (singular_poses(), an event "singular_pose"
+// naming the joints of the nearly vanishing combination of rows, margin =
+// that relative ratio): assembly branches cross there and the run may leave
+// its branch, which rigidae cannot tell in general; the caller warns. The
+// kept rows alone are not watched: they may turn ill-conditioned at a
+// regular pose (the crank-slider's at t = 0.264 s), which is the re-check's
+// business. Only in mechanisms with rows set aside (where the check runs
+// anyway), when S G^T is small.
 //
 // The rows stay in their blocks (the masks ConstraintBlock::active), so the
 // unknowns and the iteration matrix's pattern do not change: the caller makes
@@ -60,10 +80,11 @@ namespace rigidae::multibody {
 namespace {
 
 constexpr double kMaxDependency = 10.0;  // |alpha| (relative to its value at the choice) at which the subset is chosen again
+constexpr double kMaxAmplification = 2.0;  // ... when the kept rows also inflate the multipliers this much
 constexpr double kMaxResidual = 1e-4;    // relative: the set-aside row is no longer implied (above the drift)
-// The kept rows' conditioning (min |R_kk| / max |R_kk| of S G_K^T, relative
-// to the start's) below which the pose is taken as singular, and the size
-// of S G_K^T up to which the watch runs (dense QR: ~10 us at 20 x 20).
+// All the rows' conditioning at the start's rank (|R_rr| / |R_11| of S G^T,
+// relative to the start's) below which the pose is taken as singular, and
+// the size of S G^T up to which the watch runs (dense QR: ~10 us at 20 x 20).
 constexpr double kSingularCondition = 2e-2;
 constexpr long kDenseWatch = 40000;
 // The rank tolerance during the run (relative to the largest singular value
@@ -72,7 +93,56 @@ constexpr double kRunRankTol = 1e-6;
 
 }  // namespace
 
-bool MultibodyProblem::check_row_subset(double t, const double* y) {
+double MultibodyProblem::multiplier_amplification(const SparseL& Gt, const std::vector<ForceRowRef>& refs,
+                                                  const std::vector<int>& block_of, const std::vector<int>& kept,
+                                                  const double* y) const {
+  if (static_cast<long>(Gt.rows()) * Gt.cols() > kDenseWatch) return std::numeric_limits<double>::infinity();
+  const double L = redundancy_.length_scale;
+  // Each kept row's multiplier in y, in the units of its column of S G^T
+  // (a point row's column is divided by L, so its multiplier times L).
+  Eigen::VectorXd muK(static_cast<int>(kept.size()));
+  for (int k = 0; k < static_cast<int>(kept.size()); ++k) {
+    const ForceRowRef& f = refs[kept[k]];
+    int block = block_of[kept[k]], row = f.index;
+    double scale = 1.0;
+    if (f.driver >= 0) {
+      for (int j = 0; j < static_cast<int>(blocks_.size()); ++j)
+        if (blocks_[j].driver == f.driver) block = j;
+      row = 0;
+      if (f.drive->coordinate->kind == CoordinateKind::Length) scale = L;
+    } else if (f.joint < 0) {
+      for (int j = 0; j < static_cast<int>(blocks_.size()); ++j)
+        if (blocks_[j].internal && blocks_[j].body == f.body) block = j;
+    } else if (is_point_row(*f.row)) {
+      scale = L;
+    }
+    const int g = block >= 0 ? blocks_[block].lambda_group : -1;
+    muK(k) = g >= 0 ? scale * y[groups_[g].offset + row] : 0.0;
+  }
+  const double kept_norm = muK.norm();
+  if (!(kept_norm > 0.0)) return 1.0;  // nothing loads the rows: nothing is inflated
+  const Eigen::MatrixXd G(Gt);
+  Eigen::MatrixXd GK(G.rows(), static_cast<int>(kept.size()));
+  for (int k = 0; k < static_cast<int>(kept.size()); ++k) GK.col(k) = G.col(kept[k]);
+  // The minimum-norm multipliers over all rows, at the run's rank tolerance
+  // (off the manifold the dependency leaves a singular value of the drift's
+  // size, which must count as zero here).
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
+  cod.setThreshold(kRunRankTol);
+  cod.compute(G);
+  const double least = cod.solve(Eigen::VectorXd(GK * muK)).norm();
+  return kept_norm / std::max(least, 1e-300 * kept_norm);
+}
+
+int MultibodyProblem::held_unknowns() const {
+  int held = 0;
+  for (const ConstraintBlock& b : blocks_)
+    for (int r = 0; r < b.nr; ++r)
+      if (!b.active[r]) held += (b.lambda_group >= 0 ? 1 : 0) + (b.mu_group >= 0 ? 1 : 0);
+  return held;
+}
+
+bool MultibodyProblem::check_row_subset(double t, const double* y, bool multipliers_in_y) {
   // Mechanisms with rows set aside only: the check costs ~11 us a step on
   // a four-bar (+37 % of the user time of problems/four_bar.toml, 5,557
   // steps: measured with the watch on and off), too much for every closed
@@ -104,7 +174,7 @@ bool MultibodyProblem::check_row_subset(double t, const double* y) {
   const SparseL Gt = scaled_transpose(
       refs, bodies_, velocity_offset_, nv_total_, [&](int b) { return &work_[b].st; },
       [&](int b) { return &work_[b].terms.G; }, redundancy_.length_scale, *dropped_eval_, t);
-  watch_singular_pose(t, Gt, kept, refs);
+  watch_singular_pose(t, Gt, refs);
   double residual = 0.0;
   const Eigen::MatrixXd alpha = row_dependencies(Gt, kept, aside, residual);
   const double dependency = alpha.size() ? alpha.cwiseAbs().maxCoeff() : 0.0;
@@ -113,7 +183,16 @@ bool MultibodyProblem::check_row_subset(double t, const double* y) {
   // it is what the check watches (after a singular pose the coefficients fall
   // back, and the next approach is measured from there).
   subset_baseline_ = std::min(subset_baseline_, std::max(1.0, dependency));
-  if (dependency <= kMaxDependency * subset_baseline_ && residual <= kMaxResidual) return false;
+  if (residual <= kMaxResidual) {
+    if (dependency <= kMaxDependency * subset_baseline_) return false;
+    // Ill-conditioned kept rows: chosen again only when they inflate the
+    // multipliers (the opening comment), read from y where it holds them.
+    if (multipliers_in_y) {
+      const double amplification = multiplier_amplification(Gt, refs, block_of, kept, y);
+      largest_amplification_ = std::max(largest_amplification_, amplification);
+      if (amplification <= kMaxAmplification) return false;
+    }
+  }
 
   // Choose again: how many rows are dependent here, and which to set aside.
   // Off the constraint manifold (the drift, ~ the tolerance) a dependency
@@ -194,14 +273,14 @@ bool MultibodyProblem::check_row_subset(double t, const double* y) {
   return true;
 }
 
-void MultibodyProblem::watch_singular_pose(double t, const SparseL& Gt, const std::vector<int>& kept,
-                                           const std::vector<ForceRowRef>& refs) {
-  if (static_cast<long>(Gt.rows()) * static_cast<long>(kept.size()) > kDenseWatch) return;
-  Eigen::MatrixXd GK(Gt.rows(), static_cast<int>(kept.size()));
-  for (int k = 0; k < static_cast<int>(kept.size()); ++k) GK.col(k) = Gt.col(kept[k]);
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(GK);
+void MultibodyProblem::watch_singular_pose(double t, const SparseL& Gt, const std::vector<ForceRowRef>& refs) {
+  const int r = redundancy_.rank;  // the start's rank of all the rows
+  if (r <= 0 || static_cast<long>(Gt.rows()) * Gt.cols() > kDenseWatch) return;
+  const Eigen::MatrixXd G(Gt);
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(G);
   const auto d = qr.matrixR().diagonal().cwiseAbs();
-  const double ratio = d.size() ? d.minCoeff() / std::max(d.maxCoeff(), 1e-300) : 1.0;
+  if (d.size() < r) return;
+  const double ratio = d(r - 1) / std::max(d(0), 1e-300);
   if (start_condition_ < 0.0) start_condition_ = ratio;  // the first check: the start's
   const double relative = ratio / std::max(start_condition_, 1e-300);
   if (near_singular_) {
@@ -211,14 +290,14 @@ void MultibodyProblem::watch_singular_pose(double t, const SparseL& Gt, const st
   }
   if (relative >= kSingularCondition) return;
   near_singular_ = true;
-  // The joints in the near-dependency: the right singular vector of S G_K^T
-  // of its smallest singular value (the combination of kept rows that
-  // nearly vanishes).
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(GK, Eigen::ComputeThinV);
-  const Eigen::VectorXd v = svd.matrixV().col(svd.singularValues().size() - 1);
+  // The joints in the near-dependency: the right singular vector of S G^T of
+  // its r-th singular value (the combination of rows that nearly vanishes
+  // beyond the start's dependencies).
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(G, Eigen::ComputeFullV);
+  const Eigen::VectorXd v = svd.matrixV().col(r - 1);
   std::vector<int> joints;
   for (int k = 0; k < static_cast<int>(v.size()); ++k)
-    if (std::abs(v(k)) > 0.1 * v.cwiseAbs().maxCoeff() && refs[kept[k]].joint >= 0) joints.push_back(refs[kept[k]].joint);
+    if (std::abs(v(k)) > 0.1 * v.cwiseAbs().maxCoeff() && refs[k].joint >= 0) joints.push_back(refs[k].joint);
   std::sort(joints.begin(), joints.end());
   joints.erase(std::unique(joints.begin(), joints.end()), joints.end());
   SingularPose sp;

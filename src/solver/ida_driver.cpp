@@ -402,7 +402,13 @@ void IdaRun::start() {
   t_ida_said.clear();
   check(IDASetErrHandlerFn(mem, keep_ida_message, nullptr), "IDASetErrHandlerFn");
   check(IDAInit(mem, residual_callback, t_, ida_.y, ida_.yp), "IDAInit");
-  check(IDASVtolerances(mem, opt_.rtol, ida_.atol), "IDASVtolerances");
+  // Unknowns held at a fixed value count in IDA's root-mean-square norms
+  // without ever carrying an error: tighten rtol and atol by the square root
+  // of their share so that the norms over the others are as without them.
+  const double held_share = std::sqrt(static_cast<double>(n_ - problem_.held_unknowns()) / n_);
+  if (held_share < 1.0)
+    Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(ida_.atol), n_) *= held_share;
+  check(IDASVtolerances(mem, opt_.rtol * held_share, ida_.atol), "IDASVtolerances");
   check(IDASetUserData(mem, &data_), "IDASetUserData");
   check(IDASetId(mem, ida_.id), "IDASetId");
   check(IDASetSuppressAlg(mem, problem_.suppress_algebraic_error_test() ? SUNTRUE : SUNFALSE), "IDASetSuppressAlg");

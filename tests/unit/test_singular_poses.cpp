@@ -8,15 +8,17 @@
 //   theta_2 = theta_4 = theta_6: the start and gravity along the symmetry
 //   axis are symmetric, so the exact motion is);
 // - the parallelogram four-bar (problems/singular_linkage.toml) follows its
-//   closed form theta = pi/3 + 2 pi t up to its collinear pose at t = 1/3 s;
-//   there the run either fails with a message that names the pose (time,
-//   scheme, joints) or, where it goes on, warns that it passed a singular
-//   pose: it never leaves its branch silently.
+//   closed form theta = pi/3 + 2 pi t in every Euler-form combination up to
+//   its collinear pose at t = 1/3 s, and past it to the second at 5/6 s in
+//   all but linear/ggl; at a pose the run either fails with a message that
+//   names it (time, scheme, joints) or goes on and warns that it passed a
+//   singular pose: it never leaves its branch silently.
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -25,8 +27,10 @@
 
 #include "cli_runner.hpp"
 #include "rigidae/app/solve.hpp"
+#include "rigidae/coords/representation.hpp"
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/schemes/scheme.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 
 TEST_SUITE_BEGIN("system");
@@ -162,45 +166,81 @@ TEST_CASE("singular poses: Bricard's loop runs to its end on the ODE form too (t
   }
 }
 
-TEST_CASE("singular poses: the parallelogram follows its closed form to the collinear pose and never passes it "
-          "silently") {
+TEST_CASE("singular poses: the parallelogram follows its closed form through the collinear poses, and never leaves "
+          "its branch silently") {
   const Scene base = problem("singular_linkage.toml");
-  constexpr double t_singular = 1.0 / 3.0;
-  for (const char* scheme : {"ggl", "index2", "index1", "baumgarte", "projection", "index3"}) {
-    CAPTURE(std::string(scheme));
-    Scene s = base;
-    s.formulation.scheme = scheme;
-    MultibodyProblem p(s);
-    Closeness c;
-    ParallelogramSink sink(p, c);
-    const RunResult r = integrate(p, s.solver, s.time, sink);
-    // Before the singular pose: the closed form to 1e-6 (index3: its own
-    // accuracy, measured 7e-6 rad over the turn).
-    const double limit = std::string(scheme) == "index3" ? 1e-4 : 1e-6;
-    double angle = 0.0, position = 0.0;
-    for (std::size_t i = 0; i < c.t.size() && c.t[i] < t_singular - 0.01; ++i) {
-      angle = std::max(angle, c.angle[i]);
-      position = std::max(position, c.position[i]);
-    }
-    MESSAGE(std::string(scheme) << ": up to t = 0.32 s, " << angle << " rad and " << position << " m from the closed form; "
-                   << (r.status == RunStatus::Success ? "ran to the end" : "failed: " + r.message.substr(0, 80))
+  constexpr double first_pose = 1.0 / 3.0, second_pose = 5.0 / 6.0;
+  std::string whole_run;   // the combinations on the closed form up to t = 1 s
+  std::string past_first;  // ... up to the second pose at least
+  for (const Coordinates& c : all_coordinates())
+    for (const std::string& scheme : scheme_names()) {
+      const std::string name = c.name() + "/euler/" + scheme;
+      CAPTURE(name);
+      Scene s = base;
+      s.formulation.coordinates = c;
+      s.formulation.equations = Equations::Euler;
+      s.formulation.scheme = scheme;
+      MultibodyProblem p(s);
+      Closeness cl;
+      ParallelogramSink sink(p, cl);
+      const RunResult r = integrate(p, s.solver, s.time, sink);
+      REQUIRE(!cl.t.empty());
+      // index3's own accuracy: its velocities are not error-controlled
+      // (measured 3e-6 rad before the first pose, 1.1e-5 rad at t = 1 s).
+      const double limit = scheme == "index3" ? 1e-4 : 1e-6;
+      // The first output off the closed form (the branch left), and how far
+      // the run stayed on it.
+      double left = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < cl.t.size(); ++i)
+        if (std::max(cl.angle[i], cl.position[i]) > limit) {
+          left = cl.t[i];
+          break;
+        }
+      const double on_branch_until = std::min(left, cl.t.back());
+      MESSAGE(name << ": on the closed form (" << limit << ") until t = " << on_branch_until << " s; "
+                   << (r.status == RunStatus::Success ? "ran to the end" : "failed: " + r.message.substr(0, 60))
                    << "; singular poses noted " << p.singular_poses().size());
-    CHECK(angle < limit);
-    CHECK(position < limit);
-    if (r.status == RunStatus::Success) {
-      // Gone on past the collinear pose: noted as a singular pose next to
-      // t = 1/3 s with the four hinges named (solve warns about it).
-      REQUIRE_FALSE(p.singular_poses().empty());
-      CHECK(std::abs(p.singular_poses().front().t - t_singular) < 0.01);
-      CHECK(p.singular_poses().front().joints == "A B C D");
-    } else {
-      // A failure names the pose: the time, the scheme and the joints.
-      CHECK(std::abs(r.t_reached - t_singular) < 0.01);
-      CHECK(r.message.find("Scheme: " + std::string(scheme)) != std::string::npos);
-      CHECK(r.message.find("singular pose") != std::string::npos);
-      CHECK(r.message.find("'A', 'B', 'C', 'D'") != std::string::npos);
+      // Every combination reaches the first collinear pose on the closed form.
+      CHECK(on_branch_until > first_pose - 0.015);
+      // The scene's own coordinates: every scheme but ggl (which fails at the
+      // pose, naming it) passes the first pose on the parallelogram branch.
+      if (c.name() == "quaternion" && scheme != "ggl") CHECK(on_branch_until > second_pose - 0.015);
+      if (on_branch_until > second_pose - 0.015) past_first += (past_first.empty() ? "" : ", ") + name;
+      if (left == std::numeric_limits<double>::infinity() && r.status == RunStatus::Success)
+        whole_run += (whole_run.empty() ? "" : ", ") + name;
+      // Never silently: a run that left the branch noted a singular pose at
+      // or before the output where it is first off ...
+      if (left < std::numeric_limits<double>::infinity()) {
+        REQUIRE_FALSE(p.singular_poses().empty());
+        CHECK(p.singular_poses().back().t <= left);
+      }
+      if (r.status == RunStatus::Success) {
+        // ... and solve warns of the poses noted. In the scene's own
+        // coordinates both poses are noted where they are, the four hinges
+        // named; elsewhere the watch may miss or misplace one (euler/baumgarte
+        // notes one at t = 0.498 s, none at 1/3 s: the watch samples accepted
+        // steps and reads a pivoted QR, not the singular values).
+        REQUIRE_FALSE(p.singular_poses().empty());
+        if (c.name() == "quaternion") {
+          REQUIRE(p.singular_poses().size() == 2);
+          CHECK(std::abs(p.singular_poses()[0].t - first_pose) < 0.01);
+          CHECK(std::abs(p.singular_poses()[1].t - second_pose) < 0.01);
+          CHECK(p.singular_poses()[0].joints == "A B C D");
+        }
+      } else {
+        // A failure names the pose: the time, the scheme and the joints.
+        CHECK(std::min(std::abs(r.t_reached - first_pose), std::abs(r.t_reached - second_pose)) < 0.01);
+        CHECK(r.message.find("Scheme: " + scheme) != std::string::npos);
+        CHECK(r.message.find("singular pose") != std::string::npos);
+        CHECK(r.message.find("'A', 'B', 'C', 'D'") != std::string::npos);
+      }
     }
-  }
+  // Measured (the scene's header lists them and why): every index3 stays on
+  // the parallelogram branch to t = 1 s; index1, baumgarte, projection and
+  // (quaternion, linear) index2 pass the first pose on it and leave it at the
+  // second; ggl fails at the first, naming it.
+  MESSAGE("on the closed form past the first pose: " << past_first);
+  MESSAGE("on the closed form to t = 1 s: " << whole_run);
 }
 
 TEST_CASE("singular poses: solve warns about a singular pose passed and lists it in summary.json and events.csv") {

@@ -215,14 +215,25 @@ class MultibodyProblem final : public DaeProblem {
   // Singular poses met during the run (only in mechanisms with rows set aside).
   const std::vector<SingularPose>& singular_poses() const { return singular_poses_; }
   double largest_dependency() const { return largest_dependency_; }
+  // The largest amplification of the multipliers by the kept rows met when
+  // their |alpha| had grown (row_subset.cpp; 0 when never measured).
+  double largest_amplification() const { return largest_amplification_; }
   // After an accepted step at y: re-checks the independent subset (see
-  // row_subset.cpp) and chooses it again when it has become ill-conditioned.
-  // Returns true when the masks changed (the multipliers must be made
-  // consistent again). Records a "row_subset" event.
-  bool check_row_subset(double t, const double* y);
-  // Part of it: the kept rows' conditioning, a singular pose noted.
+  // row_subset.cpp) and chooses it again when it has become ill-conditioned
+  // and inflates the multipliers (read from y when multipliers_in_y; the ODE
+  // form's state holds none). Returns true when the masks changed (the
+  // multipliers must be made consistent again). Records a "row_subset" event.
+  bool check_row_subset(double t, const double* y, bool multipliers_in_y = true);
+  // The multipliers of the rows set aside (held at 0): their number, the
+  // same whichever rows are set aside.
+  int held_unknowns() const override;
+  // Parts of it: all the rows' conditioning at the start's rank, a singular
+  // pose noted; the kept multipliers against the minimum-norm ones.
   void watch_singular_pose(double t, const Eigen::SparseMatrix<double, Eigen::ColMajor, long>& Gt,
-                           const std::vector<int>& kept, const std::vector<ForceRowRef>& refs);
+                           const std::vector<ForceRowRef>& refs);
+  double multiplier_amplification(const Eigen::SparseMatrix<double, Eigen::ColMajor, long>& Gt,
+                                  const std::vector<ForceRowRef>& refs, const std::vector<int>& block_of,
+                                  const std::vector<int>& kept, const double* y) const;
   // "JOINT.ROW" of a dropped row, with the joint's file:line:col.
   std::string dropped_row_source(int k) const;
   // Largest |Phi| and |G v| of the dropped rows at y (0 when none).
@@ -438,10 +449,11 @@ class MultibodyProblem final : public DaeProblem {
   int subset_changes_ = 0;
   std::vector<SingularPose> singular_poses_;
   bool near_singular_ = false;     // inside a singular pose's neighbourhood (row_subset.cpp)
-  double start_condition_ = -1.0;  // the kept rows' R ratio at the first check
+  double start_condition_ = -1.0;  // all the rows' R ratio at the start's rank, at the first check
   double subset_baseline_ = 1.0;
   double start_baseline_ = 1.0;  // the start's  // max |alpha| right after the last choice of the subset
   double largest_dependency_ = 0.0;
+  double largest_amplification_ = 0.0;
   std::unique_ptr<BlockEval> dropped_eval_;
   MinimumNormReactions minimum_norm_;
   // support_force's scratch: a residual row (plus one free body's), y' = 0,
