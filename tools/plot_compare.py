@@ -307,9 +307,10 @@ def read_grid(path):
 
 
 def read_body_grid(path):
-    """A multibody trajectory.csv or reference.csv (columns BODY.qw..qz and BODY.x..z per body): dict with
-    t (N), bodies (names in column order), q (N x B x 4, unit quaternions of R_WB, scalar first) and
-    x (N x B x 3, centres of mass in m); None without a BODY.qw column or when unreadable."""
+    """A multibody trajectory.csv or reference.csv (columns BODY.qw..qz and BODY.x..z per rigid body,
+    BODY.x..z per particle): dict with t (N), bodies (names in column order), q (N x B x 4, unit
+    quaternions of R_WB, scalar first; the identity for a particle) and x (N x B x 3, centres of mass
+    in m); None without a body column or when unreadable."""
     try:
         with open(path, errors="replace") as f:
             first = f.readline()
@@ -317,15 +318,22 @@ def read_body_grid(path):
     except OSError:
         return None
     names = [h.strip() for h in header.strip().split(",")]
-    bodies = [h[:-3] for h in names if h.endswith(".qw") and len(h) > 3]
+    present = set(names)
+    # Rigid bodies have BODY.qw; particles only BODY.x..vz (markers, MARKER.x..az, have accelerations).
+    bodies = [h[:-2] for h in names if h.endswith(".x") and len(h) > 2
+              and (h[:-2] + ".qw" in present or (h[:-2] + ".vx" in present and h[:-2] + ".ax" not in present))]
     if not bodies or names[0] != "t":
         return None
-    wanted = ["t"] + [f"{b}.{c}" for b in bodies for c in QUATERNION + ("x", "y", "z")]
+    rigid = [b for b in bodies if b + ".qw" in present]
+    wanted = ["t"] + [f"{b}.{c}" for b in rigid for c in QUATERNION] + [f"{b}.{c}" for b in bodies for c in "xyz"]
     cols = identical_runs._read_numeric(path, wanted)
     if not cols or any(w not in cols for w in wanted):
         return None
+    n = cols["t"].size
+    identity = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))  # a particle's orientation: none, compared as the identity
     return {"t": cols["t"], "bodies": bodies, "multibody": True,
-            "q": np.stack([np.stack([cols[f"{b}.{c}"] for c in QUATERNION], 1) for b in bodies], 1),
+            "q": np.stack([np.stack([cols[f"{b}.{c}"] for c in QUATERNION], 1) if b in rigid else identity
+                           for b in bodies], 1),
             "x": np.stack([np.stack([cols[f"{b}.{c}"] for c in ("x", "y", "z")], 1) for b in bodies], 1)}
 
 

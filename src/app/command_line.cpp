@@ -31,7 +31,9 @@ const std::array<CommandInfo, 3> kCommands{{
      "", kExitCodes},
     {settings::kCompare, "compare", "rigidae compare SCENE.toml [options]",
      "Runs every applicable coordinates x equations x scheme combination against one\n"
-     "reference and writes compare.csv, compare.txt, compare.md and each run's folder.\n"
+     "reference and writes compare.csv, compare.txt, compare.md and each run's folder\n"
+     "(a mechanism of particles alone, which has no rotation coordinates, runs each\n"
+     "scheme and integrator once, in the scene's coordinates and form).\n"
      "Options override the scene file (docs/scene_format.md).\n",
      "compare runs every combination; select with --only/--skip (e.g. --only 'quaternion/*/ggl')",
      "Exit code 0 when every run finished, failed combinations included (they are\n"

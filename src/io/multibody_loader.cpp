@@ -796,6 +796,18 @@ class MultibodyReader {
       if (const toml::node* n = t.get("rest_angle"))
         j.torsion_rest_angle = bounded_number(r_, *n, key("rest_angle"), -kMaxRestAngle, kMaxRestAngle, "rad");
     }
+    // A motor's keys (the same element: a torque about the joint's axis).
+    if (carried("motor_torque")) {
+      const toml::node* torque = t.get("motor_torque");
+      if (torque) j.motor_torque = bounded_number(r_, *torque, key("motor_torque"), -kMaxForce, kMaxForce, "N m");
+      if (const toml::node* pr = t.get("motor_profile")) {
+        if (!torque)
+          r_.fail(*pr, fmt::format("'{}' scales 'motor_torque', which {} does not give (N m, on b about the axis)",
+                                   key("motor_profile"), prefix));
+        j.motor_profile = read_time_function(r_, *pr, key("motor_profile"),
+                                             "the factor (dimensionless) that scales 'motor_torque' at time t", false);
+      }
+    }
     check_particle_points(t, j);
     return j;
   }

@@ -368,8 +368,11 @@ void MultibodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
   // Force elements' own state (a torsion angle starts on its principal branch).
   for (const auto& f : forces_) f->reset();
   // Joint angles start on their principal branch (-pi, pi] too.
-  for (CoordinateTrack& c : coordinates_) c.reference = 0.0;
+  for (CoordinateTrack& c : coordinates_) c.branch.reset();
   make_consistent(t0, y, yp);
+  // The branches' first reference: the start's angles and rates at t0, from
+  // which the first step's angles are predicted (multibody/angle_branch.hpp).
+  follow_motion(t0, y.data());
 }
 
 std::pair<double, double> MultibodyProblem::drift(double t, const double* y) {

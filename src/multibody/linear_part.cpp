@@ -70,7 +70,7 @@ void MultibodyProblem::follow_force_elements() {
     if (c.def->kind != CoordinateKind::Angle) continue;
     double value = 0.0, rate = 0.0;
     coordinate_value(c, value, rate);
-    c.reference = value;
+    c.branch.accept(value, rate, evaluated_t_);  // value's branch is re-chosen across the step
   }
 }
 

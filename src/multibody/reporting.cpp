@@ -189,8 +189,8 @@ void MultibodyProblem::coordinate_value(const CoordinateTrack& c, double& value,
     return;
   }
   const double C = e.phi(0), S = e.phi(1);
-  value = c.reference + std::remainder(std::atan2(S, C) - c.reference, 2.0 * std::numbers::pi);
   rate = (C * e.Gv(1) - S * e.Gv(0)) / (C * C + S * S);
+  value = c.branch.continued(std::atan2(S, C), rate, evaluated_t_);
 }
 
 void MultibodyProblem::joint_coordinates(int joint, const double* y, double* value, double* rate) {

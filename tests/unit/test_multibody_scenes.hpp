@@ -117,6 +117,10 @@ inline Scene two_body_chain(const JointType* type, Coordinates c, Equations e, c
     m.joints[1].torsion_stiffness = 5.0;
     m.joints[1].torsion_damping = 0.7;
     m.joints[1].torsion_rest_angle = -2.5;
+    // A motor whose torque varies in time (its matrix part is through the
+    // angle's direction alone).
+    m.joints[1].motor_torque = 0.6;
+    m.joints[1].motor_profile = polynomial_function({1.0, 0.5, -0.25});
   }
   SpringSpec sp;
   sp.name = "spring";

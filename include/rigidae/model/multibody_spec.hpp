@@ -93,6 +93,11 @@ struct JointSpec {
   double torsion_stiffness = 0.0;  // N m / rad
   double torsion_damping = 0.0;    // N m s / rad
   double torsion_rest_angle = 0.0; // rad
+  // A motor in a revolute joint: the torque motor_torque s(t) on b about the
+  // axis in the angle's positive sense (and its opposite on a), s the
+  // profile (unset: 1).
+  double motor_torque = 0.0;              // N m
+  std::optional<TimeFunction> motor_profile;
   std::optional<JointLimits> limits;  // data only (URDF), never enforced
   SourcePosition where;
 };

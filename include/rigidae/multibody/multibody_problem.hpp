@@ -73,6 +73,7 @@
 #include "rigidae/coords/representation.hpp"
 #include "rigidae/model/recorded_parts.hpp"
 #include "rigidae/model/scene.hpp"
+#include "rigidae/multibody/angle_branch.hpp"
 #include "rigidae/multibody/assembly.hpp"
 #include "rigidae/multibody/block_scheme.hpp"
 #include "rigidae/multibody/constraint_rows.hpp"
@@ -385,7 +386,7 @@ class MultibodyProblem final : public DaeProblem {
     int joint = -1;
     const JointCoordinate* def = nullptr;
     ConstraintRow rows[2];
-    double reference = 0.0;
+    AngleBranch branch;  // an angle's: continued from the last accepted step
   };
   // Value and rate of one coordinate at the bodies' last evaluate().
   void coordinate_value(const CoordinateTrack& c, double& value, double& rate);

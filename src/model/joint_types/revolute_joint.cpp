@@ -7,8 +7,9 @@
 //             n_a to n_b, right-handed: C = n_a . n_b, S = (z_a x n_a) . n_b,
 //             theta = atan2(S, C); zero at the initial pose unless the scene
 //             gives both normals (frame = "body"): then their angle there
-// It carries a torsional spring-damper (src/multibody/force_elements/
-// torsion_spring.cpp) under the keys stiffness, damping, rest_angle.
+// It carries a torsional spring-damper and a motor (src/multibody/
+// force_elements/torsion_spring.cpp) under the keys stiffness, damping,
+// rest_angle, motor_torque, motor_profile.
 #include <array>
 
 #include "primitives.hpp"
@@ -17,7 +18,8 @@
 namespace rigidae {
 
 namespace {
-constexpr std::array<std::string_view, 3> kTorsionKeys{"stiffness", "damping", "rest_angle"};
+constexpr std::array<std::string_view, 5> kTorsionKeys{"stiffness", "damping", "rest_angle", "motor_torque",
+                                                      "motor_profile"};
 
 constexpr JointCoordinate kCoordinates[] = {{"angle", CoordinateKind::Angle, joint_rows::turn_about_axis}};
 

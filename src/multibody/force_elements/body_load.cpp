@@ -93,23 +93,29 @@ class BodyLoad final : public ForceElement {
 
   // A space force's potential -F . x; a follower force or a torque: none tracked.
   double potential_energy(const ForceBodies& b) override {
-    if (spec_.profile) return 0.0;
-    return load_.body_frame ? 0.0 : -load_.force.dot(b.of(load_.body)->x());
+    return force_potential_tracked() ? -load_.force.dot(b.of(load_.body)->x()) : 0.0;
   }
   bool conservative() const override {
     return !spec_.profile && !load_.body_frame && load_.torque.norm() == 0.0;
   }
 
-  // The power Q . v at the bodies' evaluation (the work the energy check counts).
+  // The power Q . v at the bodies' evaluation of what potential_energy does
+  // not track (the work the energy check counts): a constant space force's
+  // work is already its potential's change, so a load that is not
+  // conservative only because of its torque counts the torque's power alone.
   bool has_power() const override { return true; }
   double power(const ForceBodies& b) override {
     scale(b.t);
     const BodyState& st = *b.of(load_.body);
-    const Vec3 f = load_.body_frame ? Vec3(st.P.R * load_.force) : load_.force;
     double p = 0.0;
-    for (int k = 0; k < 3; ++k) p += f(k) * st.v[k];
-    if (load_.torque.isZero(0.0)) return p;
     VectorEval ev;
+    if (!force_potential_tracked()) {
+      // The centre of mass's velocity (x' for a free body; W_c v for a pivoted one).
+      const Vec3 f = load_.body_frame ? Vec3(st.P.R * load_.force) : load_.force;
+      evaluate_vector(st, {load_.body, Vec3::Zero(), true}, ev);
+      p += f.dot(ev.Wv);
+    }
+    if (load_.torque.isZero(0.0)) return p;
     for (int e = 0; e < 3; ++e) {
       evaluate_vector(st, {load_.body, Vec3::Unit(e), false}, ev);
       const Vec3 fe = load_.body_frame ? Vec3(0.5 * (st.P.R * load_.torque.cross(Vec3::Unit(e))))
@@ -120,6 +126,7 @@ class BodyLoad final : public ForceElement {
   }
 
  private:
+  bool force_potential_tracked() const { return !spec_.profile && !load_.body_frame; }
   // load_ = spec_ scaled by the profile at t (no allocation).
   void scale(double t) {
     if (!spec_.profile) return;
