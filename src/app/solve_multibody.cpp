@@ -116,6 +116,20 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
   o.extremes.max_abs_energy_error = recorder.max_abs_energy_rel_error();
   o.drifts = monitor.drifts();
   o.warnings = monitor.warnings();
+  // Singular poses passed (multibody/row_subset.cpp): the branch may have changed.
+  if (!problem.singular_poses().empty()) {
+    const multibody::SingularPose& first = problem.singular_poses().front();
+    AccuracyWarning w;
+    w.quantity = "singular_pose";
+    w.drift = first.condition;
+    w.message = fmt::format(
+        "the run passed {} singular pose(s) (first at t = {:.9g} s, joints {}), where the constraint rows nearly lose rank "
+        "and assembly branches cross; the motion may have continued on another branch "
+        "(rigidae has no general branch check: compare with a closed form or the mechanism's known branch; "
+        "events.csv lists them as singular_pose)",
+        problem.singular_poses().size(), first.t, first.joints);
+    o.warnings.push_back(w);
+  }
 
   // The keys both summaries share (summary_common.hpp), then a mechanism's own.
   nlohmann::json j = common_summary_json(scene, o);
@@ -186,6 +200,17 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
                           "torques weighed divided by L = {:.6g} m; determined joints: their multipliers; the lambda "
                           "columns of steps.csv are the kept rows' multipliers (a particular solution)",
                           rr.length_scale);
+    // The subset during the run (multibody/row_subset.cpp).
+    nlohmann::json now = nlohmann::json::array(), poses = nlohmann::json::array();
+    for (const multibody::RedundantRow& d : problem.set_aside())
+      now.push_back({{"joint", scene.multibody->joints[d.joint].name}, {"row", d.row}});
+    for (const multibody::SingularPose& sp : problem.singular_poses())
+      poses.push_back({{"t", sp.t}, {"joints", sp.joints}, {"condition", sp.condition}});
+    j["row_subset"] = {{"changes", problem.subset_changes()},
+                       {"largest_dependency", problem.largest_dependency()},
+                       {"largest_amplification", problem.largest_amplification()},
+                       {"set_aside_at_end", now},
+                       {"singular_poses", poses}};
     if (!rr.mobility_warning.empty())
       j["warnings"].push_back({{"quantity", "mobility"}, {"message", rr.mobility_warning}});
     o.note += fmt::format("; mobility {} (rank), {} (Gruebler-Kutzbach)", rr.rank_dof, rr.gruebler_dof);

@@ -52,17 +52,18 @@ void MultibodyProblem::constraint_matrices(Sparse& G, Eigen::VectorXd& phi, std:
     if (blk.kind != ConstraintKind::Force) continue;
     const BlockEval& e = block_eval_[j];
     for (int r = 0; r < blk.nr; ++r) {
+      if (!blk.active[r]) continue;  // set aside: implied by the others
       for (int x = 0; x < 2; ++x) {
         const int bi = blk.body_of_side[x];
         if (bi == kGround) continue;
         for (int k = 0; k < e.G[x].cols(); ++k)
-          if (e.G[x](r, k) != 0.0) trip.emplace_back(row + r, velocity_offset_[bi] + k, e.G[x](r, k));
+          if (e.G[x](r, k) != 0.0) trip.emplace_back(row, velocity_offset_[bi] + k, e.G[x](r, k));
       }
       values.push_back(e.phi(r));
       if (row_block) row_block->push_back(j);
       if (row_index) row_index->push_back(r);
+      ++row;
     }
-    row += blk.nr;
   }
   G.resize(row, nv_total_);
   G.setFromTriplets(trip.begin(), trip.end());
@@ -188,7 +189,8 @@ void MultibodyProblem::project(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp
     int row = 0;
     for (int j = 0; j < static_cast<int>(blocks_.size()); ++j)
       if (blocks_[j].kind == ConstraintKind::Force)
-        for (int r = 0; r < blocks_[j].nr; ++r) rate(row++) = block_eval_[j].Gv(r);
+        for (int r = 0; r < blocks_[j].nr; ++r)
+          if (blocks_[j].active[r]) rate(row++) = block_eval_[j].Gv(r);  // G's rows: the active ones
     solve_saddle(mass_matrix(bodies_, velocity_offset_, rot_mass, nv_total_), G,
                  Eigen::VectorXd::Zero(nv_total_), -rate, dv, nu);
     v += dv;
@@ -278,9 +280,10 @@ void MultibodyProblem::make_consistent(double t, Eigen::VectorXd& y, Eigen::Vect
   for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) {
     const ConstraintBlock& blk = blocks_[j];
     if (blk.kind != ConstraintKind::Force) continue;
-    for (int r = 0; r < blk.nr; ++r, ++row) {
+    for (int r = 0; r < blk.nr; ++r) {
+      if (!blk.active[r]) continue;
       const double wa = blk.lambda_rows.acceleration;
-      target(row) = wa != 0.0 ? -F(groups_[blk.lambda_group].offset + r) / wa : -block_eval_[j].cacc(r);
+      target(row++) = wa != 0.0 ? -F(groups_[blk.lambda_group].offset + r) / wa : -block_eval_[j].cacc(r);
     }
   }
   Eigen::VectorXd a, lambda;
@@ -291,8 +294,8 @@ void MultibodyProblem::make_consistent(double t, Eigen::VectorXd& y, Eigen::Vect
   row = 0;
   for (const ConstraintBlock& blk : blocks_) {
     if (blk.kind != ConstraintKind::Force) continue;
-    y.segment(groups_[blk.lambda_group].offset, blk.nr) = lambda.segment(row, blk.nr);
-    row += blk.nr;
+    for (int r = 0; r < blk.nr; ++r)
+      if (blk.active[r]) y(groups_[blk.lambda_group].offset + r) = lambda(row++);  // set aside: stays 0
   }
   // q'_0 = N v, then mu and q' = q'_0 - P^T mu.
   Eigen::VectorXd qdot = Eigen::VectorXd::Zero(n_);
@@ -310,18 +313,19 @@ void MultibodyProblem::make_consistent(double t, Eigen::VectorXd& y, Eigen::Vect
     if (blk.mu_group < 0) continue;
     const BlockEval& e = block_eval_[j];
     for (int r = 0; r < blk.nr; ++r) {
+      if (!blk.active[r]) continue;
       for (int x = 0; x < 2; ++x) {
         const int bi = blk.body_of_side[x];
         if (bi == kGround) continue;
         const int qo = groups_[bodies_[bi].q_group].offset;
         for (int k = 0; k < e.phi_q[x].cols(); ++k)
-          if (e.phi_q[x](r, k) != 0.0) trip.emplace_back(nmu + r, qo + k, e.phi_q[x](r, k));
+          if (e.phi_q[x](r, k) != 0.0) trip.emplace_back(nmu, qo + k, e.phi_q[x](r, k));
       }
       const LevelWeights& w = blk.mu_rows;
       rate.push_back(blk.kind == ConstraintKind::Kinematic && w.velocity != 0.0 ? -w.position * e.phi(r) / w.velocity
                                                                                 : 0.0);
+      ++nmu;
     }
-    nmu += blk.nr;
   }
   if (nmu > 0) {
     Sparse P(nmu, n_);
@@ -335,8 +339,8 @@ void MultibodyProblem::make_consistent(double t, Eigen::VectorXd& y, Eigen::Vect
     int m = 0;
     for (const ConstraintBlock& blk : blocks_) {
       if (blk.mu_group < 0) continue;
-      y.segment(groups_[blk.mu_group].offset, blk.nr) = mu.segment(m, blk.nr);
-      m += blk.nr;
+      for (int r = 0; r < blk.nr; ++r)
+        if (blk.active[r]) y(groups_[blk.mu_group].offset + r) = mu(m++);
     }
   }
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
@@ -366,6 +370,7 @@ void MultibodyProblem::start(const Scene& scene) {
     evaluate_block(j, y0_.data(), nullptr);
     if (blocks_[j].internal) continue;
     for (int r = 0; r < blocks_[j].nr; ++r) {
+      if (!blocks_[j].active[r]) continue;  // set aside: checked below
       const double miss = std::abs(block_eval_[j].phi(r));
       if (miss > spec_.start_tolerance && blocks_[j].driver >= 0)
         throw InputError(fmt::format("{}: the initial poses miss the prescribed motion by {:.3g} (more than "
@@ -424,6 +429,21 @@ void MultibodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
   y = y0_;
   yp = yp0_;
   events_.insert(events_.end(), start_events_.begin(), start_events_.end());
+  // The start's subset of the rows (a run before this one may have chosen
+  // another) and a fresh singular-pose watch.
+  singular_poses_.clear();
+  near_singular_ = false;
+  start_condition_ = -1.0;
+  if (!redundancy_.dropped.empty()) {
+    for (ConstraintBlock& b : blocks_)
+      if (!b.internal) std::fill(b.active.begin(), b.active.end(), 1);
+    for (const RedundantRow& d : redundancy_.dropped) blocks_[block_of_joint_[d.joint]].active[d.index] = 0;
+    set_aside_ = redundancy_.dropped;
+    subset_baseline_ = start_baseline_;
+    subset_changes_ = 0;
+    largest_dependency_ = 0.0;
+    largest_amplification_ = 0.0;
+  }
   // Force elements' own state (a torsion angle starts on its principal branch).
   for (const auto& f : forces_) f->reset();
   // Joint angles start on their principal branch (-pi, pi] too.

@@ -8,7 +8,8 @@
 //   A = [ I  0    0   ]   rows q
 //       [ 0  M    G^T ]   rows v
 //       [ 0  w_A G  0 ]   rows lambda
-// (columns q', v', lambda). A is written through the iteration matrix's sink,
+// (columns q', v', lambda); a row set aside reads F_lambda = lambda (a 1 on
+// the diagonal, no G). A is written through the iteration matrix's sink,
 // so its entries land on sparsity()'s pattern: every pair written here is
 // one the exact iteration matrix writes too (cj dF/dy' and G^T).
 #include "rigidae/multibody/multibody_problem.hpp"
@@ -37,9 +38,15 @@ void MultibodyProblem::assemble_linear_part(double t, const double* y, JacobianS
       const int bi = blk.body_of_side[x];
       if (bi == kGround) continue;
       const int V = bodies_[bi].v_group;
-      sink.add(blk.lambda_group, V, 0, 0, blk.lambda_rows.acceleration * e.G[x]);
+      BlockMatV Ga = blk.lambda_rows.acceleration * e.G[x];
+      for (int r = 0; r < blk.nr; ++r)
+        if (!blk.active[r]) Ga.row(r).setZero();
+      sink.add(blk.lambda_group, V, 0, 0, Ga);
       sink.add(V, blk.lambda_group, 0, 0, e.G[x].transpose());
     }
+    // A row set aside (row_subset.cpp): lambda_r = 0.
+    for (int r = 0; r < blk.nr; ++r)
+      if (!blk.active[r]) sink.add(blk.lambda_group, blk.lambda_group, r, r, Eigen::Matrix<double, 1, 1>::Constant(1.0));
   }
 }
 

@@ -10,7 +10,7 @@
 // and every lambda' with G_S^T lambda' = f is as good. The one reported is
 // the least in the scaled norm,
 //   min |W lambda'|  subject to  G_S^T lambda' = f,
-// over all of S's rows, kept and set aside: W = 1 on point rows (their
+// over all of S's rows, active and set aside: W = 1 on point rows (their
 // multipliers are forces, N) and 1/L on angular rows (torques, N m, divided
 // by the scene's length L, redundancy().length_scale), so that forces and
 // torques are weighed in the same unit. With mu = W lambda' and
@@ -62,8 +62,9 @@ void MultibodyProblem::prepare_minimum_norm_reactions() {
   m.kept_lambda_offset.clear();
   m.bodies.clear();
   if (m.joints.empty()) return;
-  // S's rows, joint by joint: the kept rows (with their multipliers' place in
-  // y) then the rows set aside (no multiplier).
+  // S's rows, joint by joint: every row of the joint's block, active or set
+  // aside behind the mask (row_subset.cpp; a row set aside has its multiplier
+  // held at 0 in y, so it adds nothing to f whichever rows are active).
   std::vector<int> first(spec_.joints.size(), -1);
   for (int j : m.joints) {
     first[j] = static_cast<int>(m.rows.size());
@@ -73,10 +74,6 @@ void MultibodyProblem::prepare_minimum_norm_reactions() {
         m.rows.push_back(&blocks_[b].rows[r]);
         m.kept_lambda_offset.push_back(blocks_[b].lambda_group >= 0 ? groups_[blocks_[b].lambda_group].offset + r : -1);
       }
-    for (int k : dropped_of_joint_[j]) {
-      m.rows.push_back(&redundancy_.dropped[k].constraint);
-      m.kept_lambda_offset.push_back(-1);
-    }
     for (int body : {spec_.joints[j].body_a, spec_.joints[j].body_b})
       if (body != kGround && std::find(m.bodies.begin(), m.bodies.end(), body) == m.bodies.end())
         m.bodies.push_back(body);
@@ -141,8 +138,7 @@ JointReaction MultibodyProblem::minimum_norm_reaction(int joint, const double* y
   solve_minimum_norm_reactions(y);
   const MinimumNormReactions& m = minimum_norm_;
   const int first = m.first_row[joint];
-  const int count = (block_of_joint_[joint] >= 0 ? blocks_[block_of_joint_[joint]].nr : 0) +
-                    static_cast<int>(dropped_of_joint_[joint].size());
+  const int count = block_of_joint_[joint] >= 0 ? blocks_[block_of_joint_[joint]].nr : 0;
   return reaction_of_rows(joint, &m.rows[first], m.lambda.data() + first, count);
 }
 

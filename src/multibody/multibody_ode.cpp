@@ -265,6 +265,9 @@ void MultibodyOde::after_step(double t, const double* x) {
   y_drift_.head(n_state_) = Eigen::Map<const Eigen::VectorXd>(x, n_state_);
   y_drift_.tail(n_ - n_state_).setZero();
   problem_.follow_motion(t, y_drift_.data());
+  // The independent subset of the rows (row_subset.cpp): the state holds no
+  // multipliers, so a new subset only changes the next KKT factorisation.
+  problem_.check_row_subset(t, y_drift_.data(), /*multipliers_in_y=*/false);
 }
 
 long MultibodyOde::fresh_factorisations() const { return klu_ ? klu_->fresh_factorisations() : 0; }

@@ -157,6 +157,7 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
     blk.kind = rep.constraint_kind();
     blk.nr = rep.nc();
     blk.row_names = rep.constraint_names();
+    blk.active.assign(blk.nr, 1);
     blk.body_of_side[0] = i;
     add_groups(blk);
   }
@@ -167,7 +168,9 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
     blk.kind = ConstraintKind::Force;
     blk.rows = std::move(rows_of_joint[j]);
     blk.nr = static_cast<int>(blk.rows.size());
-    if (blk.nr == 0) continue;  // every row redundant: no multipliers
+    if (blk.nr == 0) continue;
+    blk.active.assign(blk.nr, 1);
+    for (int k : dropped_of_joint_[j]) blk.active[redundancy_.dropped[k].index] = 0;
     for (const ConstraintRow& r : blk.rows) blk.row_names.push_back(r.name);
     blk.body_of_side[0] = js.body_a;
     blk.body_of_side[1] = js.body_b;
@@ -183,6 +186,7 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
     blk.driver = d;
     blk.kind = ConstraintKind::Force;
     blk.nr = 1;
+    blk.active.assign(1, 1);  // a driver's row is never set aside
     blk.row_names.push_back("drive_" + std::string(drivers_[d].coordinate->name));
     blk.body_of_side[0] = js.body_a;
     blk.body_of_side[1] = js.body_b;
@@ -231,6 +235,13 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
   assemble_jacobian(scene.time.start, 1.0, y0_.data(), yp0_.data(), *sink_);
   for (const BodyModel& b : bodies_)
     for (int g : {b.q_group, b.v_group}) sink_->add_diagonal(g, 0.0);
+  // A mechanism with rows set aside may set other joints' rows aside during
+  // the run (row_subset.cpp): their rows lambda_r = 0 need the diagonal.
+  if (!redundancy_.dropped.empty())
+    for (const ConstraintBlock& b : blocks_)
+      if (!b.internal)
+        for (int g : {b.lambda_group, b.mu_group})
+          if (g >= 0) sink_->add_diagonal(g, 0.0);
   pattern_ = sink_->finish_recording();
 }
 
@@ -456,6 +467,11 @@ bool MultibodyProblem::residual(double t, const double* y, const double* yp, dou
       const auto row = [&](const LevelWeights& w) {
         return w.position * e.phi(r) + w.velocity * vel + w.acceleration * (ga + e.cacc(r));
       };
+      if (!blk.active[r]) {  // set aside: its multipliers are held at 0
+        if (blk.lambda_group >= 0) F[groups_[blk.lambda_group].offset + r] = y[groups_[blk.lambda_group].offset + r];
+        if (blk.mu_group >= 0) F[groups_[blk.mu_group].offset + r] = y[groups_[blk.mu_group].offset + r];
+        continue;
+      }
       if (blk.lambda_group >= 0) F[groups_[blk.lambda_group].offset + r] = row(blk.lambda_rows);
       if (blk.mu_group >= 0) F[groups_[blk.mu_group].offset + r] = row(blk.mu_rows);
     }
@@ -525,10 +541,14 @@ void MultibodyProblem::assemble_jacobian(double t, double cj, const double* y, c
         else
           Aq = w.acceleration * (e.dGa_q[x] + e.dc_q[x]) + (w.velocity * cj) * e.phi_q[x] +
                w.velocity * e.dPqp_q[x] + w.position * e.phi_q[x];
+        for (int r = 0; r < blk.nr; ++r)
+          if (!blk.active[r]) Aq.row(r).setZero();
         sink.add(group, Q, 0, 0, Aq);
         if ((force && w.velocity != 0.0) || w.acceleration != 0.0) {
           Av = w.acceleration * (cj * e.G[x] + e.dc_v[x]);
           if (force) Av += w.velocity * e.G[x];
+          for (int r = 0; r < blk.nr; ++r)
+            if (!blk.active[r]) Av.row(r).setZero();
           sink.add(group, V, 0, 0, Av);
         }
       };
@@ -543,6 +563,10 @@ void MultibodyProblem::assemble_jacobian(double t, double cj, const double* y, c
       if (blk.lambda_group >= 0) sink.add(V, blk.lambda_group, 0, 0, e.G[x].transpose());
       if (blk.mu_group >= 0) sink.add(Q, blk.mu_group, 0, 0, e.phi_q[x].transpose());
     }
+    for (int r = 0; r < blk.nr; ++r)
+      if (!blk.active[r])
+        for (int g : {blk.lambda_group, blk.mu_group})
+          if (g >= 0) sink.add(g, g, r, r, Eigen::Matrix<double, 1, 1>::Constant(1.0));
   }
 }
 

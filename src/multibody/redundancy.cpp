@@ -26,115 +26,16 @@
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
+#include "row_rank.hpp"
 
 namespace rigidae::multibody {
 
 namespace {
 
-using SparseL = Eigen::SparseMatrix<double, Eigen::ColMajor, SuiteSparse_long>;
 using Triplet = Eigen::Triplet<double, SuiteSparse_long>;
 
 constexpr double kRankRelTol = 1e-9;  // of max |R_kk|
 constexpr double kNearbyStep = 1e-2;  // of L (and rad): how far the nearby poses lie
-
-bool is_point_row(const ConstraintRow& r) {
-  for (int t = 0; t < r.n_terms; ++t)
-    if (r.terms[t].a.point || r.terms[t].b.point) return true;
-  return false;
-}
-
-struct Rank {
-  int rank = 0;
-  double rmax = 0.0;
-  std::vector<int> perm;  // columns in SPQR's order; perm[rank..] set aside
-};
-
-// threshold < 0: SPQR's default. fixed: the columns in their order (no
-// fill-reducing permutation), so the later of dependent columns are set aside.
-Rank spqr_rank(const SparseL& Gt, double threshold, bool fixed = false) {
-  Rank out;
-  if (Gt.cols() == 0) return out;
-  Eigen::SPQR<SparseL> qr;
-  if (threshold >= 0.0) qr.setPivotThreshold(threshold);
-  if (fixed) qr.setSPQROrdering(SPQR_ORDERING_FIXED);
-  qr.compute(Gt);
-  if (qr.info() != Eigen::Success)
-    throw InputError("the rank check of the joints' constraint rows failed (SuiteSparseQR could not factorise G^T)");
-  out.rank = static_cast<int>(qr.rank());
-  // SPQR's colsPermutation() is a temporary: copy it (see git log: ASan).
-  const Eigen::Matrix<SuiteSparse_long, Eigen::Dynamic, 1> perm = qr.colsPermutation().indices();
-  out.perm.assign(perm.data(), perm.data() + perm.size());
-  const SparseL R = qr.matrixR();
-  for (int k = 0; k < out.rank && k < R.rows() && k < R.cols(); ++k)
-    out.rmax = std::max(out.rmax, std::abs(R.coeff(k, k)));
-  return out;
-}
-
-}  // namespace
-
-// One Force row: a body's internal row (body >= 0, joint < 0), a joint's, or
-// a driver's (driver >= 0, joint its joint, row null).
-struct ForceRowRef {
-  int body = -1, joint = -1, index = 0;
-  const ConstraintRow* row = nullptr;
-  int driver = -1;
-  const DriverRow* drive = nullptr;
-};
-
-namespace {
-
-// S G^T over all velocities at the last evaluate().
-SparseL scaled_transpose(const std::vector<ForceRowRef>& rows, const std::vector<BodyModel>& bodies,
-                         const std::vector<int>& velocity_offset, int nv_total,
-                         const std::function<const BodyState*(int)>& state,
-                         const std::function<const MatCV*(int)>& internal_G, double L, BlockEval& e,
-                         double t) {
-  std::vector<Triplet> trip;
-  BlockEval scratch;
-  for (int c = 0; c < static_cast<int>(rows.size()); ++c) {
-    const ForceRowRef& f = rows[c];
-    if (f.joint < 0) {
-      const MatCV& G = *internal_G(f.body);
-      const int o = velocity_offset[f.body] + bodies[f.body].nx;
-      for (int k = 0; k < bodies[f.body].nvr; ++k)
-        if (G(f.index, k) != 0.0) trip.emplace_back(o + k, c, G(f.index, k));
-      continue;
-    }
-    BlockSides sides;
-    // The row's bodies: those its vectors live on.
-    int side_body[2] = {kGround, kGround};
-    int n = 0;
-    const ConstraintRow* own = f.drive ? f.drive->rows : f.row;
-    const int own_rows = f.drive ? f.drive->row_count() : 1;
-    for (int r = 0; r < own_rows; ++r)
-      for (int k = 0; k < own[r].n_terms; ++k)
-        for (const BodyVector* v : {&own[r].terms[k].a, &own[r].terms[k].b})
-          if (v->body != kGround && v->body != side_body[0] && v->body != side_body[1] && n < 2)
-            side_body[n++] = v->body;
-    for (int x = 0; x < 2; ++x) {
-      sides.body[x] = side_body[x];
-      sides.state[x] = side_body[x] == kGround ? nullptr : state(side_body[x]);
-    }
-    double s = 1.0;
-    if (f.drive) {
-      // A driven length is in metres; an angle's row is r sin(theta - f).
-      evaluate_driver(*f.drive, t, sides, scratch, e);
-      if (f.drive->coordinate->kind == CoordinateKind::Length) s = 1.0 / L;
-    } else {
-      evaluate_rows(f.row, 1, sides, e);
-      s = is_point_row(*f.row) ? 1.0 / L : 1.0;
-    }
-    for (int x = 0; x < 2; ++x) {
-      if (side_body[x] == kGround) continue;
-      for (int k = 0; k < e.G[x].cols(); ++k)
-        if (e.G[x](0, k) != 0.0) trip.emplace_back(velocity_offset[side_body[x]] + k, c, s * e.G[x](0, k));
-    }
-  }
-  SparseL Gt(nv_total, static_cast<SuiteSparse_long>(rows.size()));
-  Gt.setFromTriplets(trip.begin(), trip.end());
-  Gt.makeCompressed();
-  return Gt;
-}
 
 }  // namespace
 
@@ -159,17 +60,6 @@ std::string MultibodyProblem::dropped_row_source(int k) const {
   return fmt::format("{}:{}:{}", j.where.file, j.where.line, j.where.column);
 }
 
-namespace {
-
-std::vector<ForceRowRef> internal_force_rows(const std::vector<BodyModel>& bodies) {
-  std::vector<ForceRowRef> rows;
-  for (int i = 0; i < static_cast<int>(bodies.size()); ++i)
-    if (bodies[i].rep->nc() > 0 && bodies[i].rep->constraint_kind() == ConstraintKind::Force)
-      for (int r = 0; r < bodies[i].rep->nc(); ++r) rows.push_back({i, -1, r, nullptr});
-  return rows;
-}
-
-}  // namespace
 
 void MultibodyProblem::find_redundant_rows(const Scene& scene, std::vector<std::vector<ConstraintRow>>& rows) {
   RedundancyReport& rep = redundancy_;
@@ -241,13 +131,24 @@ void MultibodyProblem::find_redundant_rows(const Scene& scene, std::vector<std::
           "already (its row depends on theirs at the start): drive a coordinate that is free, or remove a driver",
           d.where.file, d.where.line, d.where.column, js.name, drivers_[refs[c].driver].coordinate->name));
     }
+  std::vector<int> kept(rk.perm.begin(), rk.perm.begin() + rk.rank);
+  std::sort(kept.begin(), kept.end());
+  // Of the dependent rows, set aside the best-conditioned choice (each row
+  // set aside with the largest part in its dependency: row_rank.hpp), the
+  // one the run's re-check (row_subset.cpp) would keep.
+  aside = best_set_aside(Gt, kept, aside, static_cast<int>(internal_force_rows(bodies_).size() + drivers_.size()));
   // Indeterminate reactions: G_I^T alpha = g_d over the kept columns.
   std::vector<char> is_aside(refs.size(), 0);
   for (int c : aside) is_aside[c] = 1;
-  std::vector<int> kept;
+  kept.clear();
   for (int c = 0; c < rep.rows; ++c)
     if (!is_aside[c]) kept.push_back(c);
   std::set<int> indeterminate;
+  {
+    double residual = 0.0;
+    const Eigen::MatrixXd a = row_dependencies(Gt, kept, aside, residual);
+    subset_baseline_ = start_baseline_ = std::max(1.0, a.size() ? a.cwiseAbs().maxCoeff() : 1.0);
+  }
   {
     std::vector<Triplet> trip;
     Eigen::MatrixXd D = Eigen::MatrixXd::Zero(nv_total_, static_cast<int>(aside.size()));
@@ -277,18 +178,18 @@ void MultibodyProblem::find_redundant_rows(const Scene& scene, std::vector<std::
     }
   }
   rep.indeterminate_joints.assign(indeterminate.begin(), indeterminate.end());
-  // Set the rows aside (highest index first within a joint).
+  // The rows set aside: they stay in their joints' blocks, inactive (the
+  // blocks' masks are set from rep.dropped when the blocks are built).
   std::vector<std::vector<int>> drop(rows.size());
   for (int c : aside) drop[refs[c].joint].push_back(refs[c].index);
-  for (int j = 0; j < static_cast<int>(rows.size()); ++j)
+  for (int j = 0; j < static_cast<int>(rows.size()); ++j) {
+    std::sort(drop[j].begin(), drop[j].end());
     for (int r : drop[j]) {
       dropped_of_joint_[j].push_back(static_cast<int>(rep.dropped.size()));
-      rep.dropped.push_back({j, rows[j][r].name, rows[j][r]});
+      rep.dropped.push_back({j, r, rows[j][r].name, rows[j][r]});
     }
-  for (int j = 0; j < static_cast<int>(rows.size()); ++j) {
-    std::sort(drop[j].rbegin(), drop[j].rend());
-    for (int r : drop[j]) rows[j].erase(rows[j].begin() + r);
   }
+  set_aside_ = rep.dropped;
   std::string list;
   for (int k = 0; k < static_cast<int>(rep.dropped.size()); ++k) {
     const RedundantRow& d = rep.dropped[k];
@@ -312,8 +213,7 @@ int MultibodyProblem::full_rank(double t, const double* y) {
     if (b.driver >= 0)
       refs.push_back({-1, b.joint, 0, nullptr, b.driver, &drivers_[b.driver]});
     else if (!b.internal)
-      for (int r = 0; r < b.nr; ++r) refs.push_back({-1, b.joint, r, &b.rows[r]});
-  for (const RedundantRow& d : redundancy_.dropped) refs.push_back({-1, d.joint, 0, &d.constraint});
+      for (int r = 0; r < b.nr; ++r) refs.push_back({-1, b.joint, r, &b.rows[r]});  // active or set aside
   const SparseL Gt = scaled_transpose(
       refs, bodies_, velocity_offset_, nv_total_, [&](int b) { return &work_[b].st; },
       [&](int b) { return &work_[b].terms.G; }, redundancy_.length_scale, *dropped_eval_, t);
@@ -322,9 +222,9 @@ int MultibodyProblem::full_rank(double t, const double* y) {
 
 std::pair<double, double> MultibodyProblem::dropped_drift(const double* y) {
   double pos = 0.0, vel = 0.0;
-  if (redundancy_.dropped.empty()) return {pos, vel};
+  if (set_aside_.empty()) return {pos, vel};
   if (y != evaluated_y_) evaluate(0.0, y, 2);
-  for (int k = 0; k < static_cast<int>(redundancy_.dropped.size()); ++k) {
+  for (int k = 0; k < static_cast<int>(set_aside_.size()); ++k) {
     evaluate_dropped_row(k);
     pos = std::max(pos, std::abs(dropped_eval_->phi(0)));
     vel = std::max(vel, std::abs(dropped_eval_->Gv(0)));
@@ -398,7 +298,7 @@ void MultibodyProblem::check_redundant_rows(double t0) {
 }
 
 void MultibodyProblem::evaluate_dropped_row(int k) {
-  const RedundantRow& d = redundancy_.dropped[k];
+  const RedundantRow& d = set_aside_[k];
   const JointSpec& js = spec_.joints[d.joint];
   BlockSides sides;
   sides.body[0] = js.body_a;

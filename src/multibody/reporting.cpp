@@ -124,26 +124,11 @@ JointReaction MultibodyProblem::reaction_of_rows(int joint, const ConstraintRow*
 
 std::pair<double, double> MultibodyProblem::joint_residuals(int joint, const double* y) {
   const int j = block_of_joint_[joint];
-  if (j < 0 && dropped_of_joint_[joint].empty()) return {0.0, 0.0};
+  if (j < 0) return {0.0, 0.0};
   if (y != evaluated_y_) evaluate(0.0, y, 2);
-  double phi2 = 0.0, gv2 = 0.0;
-  if (j >= 0) {
-    evaluate_block(j, y, nullptr);
-    phi2 = block_eval_[j].phi.squaredNorm();
-    gv2 = block_eval_[j].Gv.squaredNorm();
-  }
-  // Its rows set aside as redundant count too.
-  const JointSpec& js = spec_.joints[joint];
-  for (int k : dropped_of_joint_[joint]) {
-    BlockSides sides;
-    sides.body[0] = js.body_a;
-    sides.body[1] = js.body_b;
-    for (int x = 0; x < 2; ++x) sides.state[x] = sides.body[x] == kGround ? nullptr : &work_[sides.body[x]].st;
-    evaluate_rows(&redundancy_.dropped[k].constraint, 1, sides, *dropped_eval_);
-    phi2 += dropped_eval_->phi(0) * dropped_eval_->phi(0);
-    gv2 += dropped_eval_->Gv(0) * dropped_eval_->Gv(0);
-  }
-  return {std::sqrt(phi2), std::sqrt(gv2)};
+  // Every row of the joint, those set aside included (they stay in the block).
+  evaluate_block(j, y, nullptr);
+  return {block_eval_[j].phi.norm(), block_eval_[j].Gv.norm()};
 }
 
 double MultibodyProblem::kinetic_energy(const double* y) const {

@@ -95,6 +95,15 @@ StepAction MultibodyProblem::after_step(double t, double h, Eigen::VectorXd& y, 
     evaluate(t, y.data(), 2);  // order 2: the Lagrange form's bias terms of the rows
     follow_force_elements();
   }
+  // The independent subset of the rows (row_subset.cpp): chosen again, the
+  // state is projected onto the new rows (a row that was set aside holds
+  // only to the drift: without the projection an index-2 row G v = 0 would
+  // ask the first step for a jump of that size, which no step size passes),
+  // the multipliers are made consistent and the integrator restarts.
+  if (check_row_subset(t, y.data())) {
+    project(t, y, yp);
+    a.kind = StepAction::Kind::Restart;
+  }
   if (change_charts(t, y, yp, false)) a.kind = StepAction::Kind::Restart;
   if (scheme_.projection) {
     const auto [pos, vel] = projection_drift(t, y.data());

@@ -96,7 +96,9 @@ MultibodyRecorder::MultibodyRecorder(multibody::MultibodyProblem& problem, const
       step_values_(step_part_names_.size()),
       events_(out_dir / "events.csv",
               "# units: t s; margin |det B| of the chart left (chart_switch), 1; drift_position and "
-              "drift_velocity just before a projection",
+              "drift_velocity just before a projection; row_subset: body the joints whose rows moved, from/to "
+              "the rows set aside before/after, margin the largest dependency coefficient; singular_pose: body "
+              "the joints whose rows nearly lose rank, margin their conditioning relative to the start",
               "t,event,body,from,to,margin,drift_position,drift_velocity"),
       steps_(kStepTable, step_part_names_, false, output, out_dir, step_units_more_),
       trajectory_(open_csv_if(output.record != RecordMode::None, out_dir / "trajectory.csv",

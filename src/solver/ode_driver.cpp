@@ -500,6 +500,7 @@ RunResult integrate_ode(OdeProblem& problem, const SolverSettings& opt, const Ti
     }
     ++steps_total;
     problem.after_step(t, x.data());
+    forward_events(problem, result, sink, before_restart);  // a mechanism's row_subset / singular_pose notes
     if (data.projected) {  // inside the step (CVODE-BDF, ARKODE)
       ++before_restart.projections;
       sink.on_event(projection_note(t, data.drift_before));

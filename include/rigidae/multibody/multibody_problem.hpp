@@ -40,23 +40,31 @@
 // units: point rows (metres) are divided by the scene's length L, the
 // largest joint-point offset from a body's centre of mass (1 m when there is
 // none); angular rows are dimensionless. The threshold is 1e-9 times the
-// largest |R_kk| of a first factorisation. The joints' rows set aside are
-// dropped from their blocks (redundancy().dropped, named per joint with the
-// joint's file:line:col): the DAE is just smaller, so every scheme and
-// representation runs unchanged; the kept rows' multipliers carry the whole
+// largest |R_kk| of a first factorisation; of the dependent rows the
+// best-conditioned choice is set aside (row_rank.hpp, best_set_aside). The
+// rows set aside (redundancy().dropped, named per joint with the joint's
+// file:line:col) stay in their blocks, inactive (ConstraintBlock::active):
+// their multipliers are held at 0 by the rows lambda_r = 0, mu_r = 0, so
+// every scheme and representation runs unchanged and the layout never
+// changes; the kept rows' multipliers carry the whole
 // load (the particular solution of the independent subset: the reactions of
 // the joints in the dependency, redundancy().indeterminate_joints, are not
 // determined by the constraints and are reported as computed). A dropped
 // row's Phi and G v are still monitored (drift(), joint_residuals()): they
-// are implied by the kept rows and stay at the integration error. After the
+// are implied by the kept rows and stay at the integration error. After every
+// accepted step the subset is re-checked and chosen again when it has turned
+// ill-conditioned (row_subset.cpp: an event, a projection and a restart),
+// and a rank loss of all the rows (a singular pose) is noted. After the
 // start's projection a dropped row that misses by more than start_tolerance
 // is an error (the loop cannot close in that direction).
 // Singular start: the rank is measured again at two nearby poses (the start
 // moved along its velocity and along a random admissible velocity by about
 // 1% of L, each projected back onto the kept rows). Rank loss that persists
 // there is redundancy; rank loss only at the start is a singular pose, and a
-// warning says the assembly branch is ambiguous (the dropped rows then hold
-// only through the drift monitor).
+// warning says the assembly branch is ambiguous (the run's re-check sets
+// the rows active again once they stop being implied, a relative residual
+// above 1e-4 against the kept rows: row_subset.cpp; not yet tested on a
+// singular start).
 // Mobility: rank_dof = velocities - rank of the Force rows (6 per body in the
 // Euler form), beside Gruebler-Kutzbach 6 n - sum of the joints' rows; a
 // scene's expected_dof that differs from rank_dof is a warning.
@@ -109,6 +117,12 @@ struct ConstraintBlock {
   std::vector<ConstraintRow> rows;  // joints
   std::vector<std::string> row_names;
   int nr = 0;
+  // Per row: 1 when the row is integrated, 0 when it is set aside as
+  // dependent on the others (redundant, or chosen again during the run:
+  // row_subset.cpp). A row set aside keeps its multipliers in y, held at 0
+  // by the rows lambda_r = 0 (and mu_r = 0), so the layout and the sparse
+  // pattern never change when the subset does.
+  std::vector<char> active;
   int lambda_group = -1, mu_group = -1;
   LevelWeights lambda_rows, mu_rows;
   int body_of_side[2] = {kGround, kGround};
@@ -130,6 +144,7 @@ struct JointReaction {
 // The start's rank analysis (see the opening comment).
 struct RedundantRow {
   int joint = -1;
+  int index = -1;        // the row's index among its joint's rows
   std::string row;       // the row's name, e.g. "axis_n1"
   ConstraintRow constraint;
 };
@@ -147,6 +162,16 @@ struct RedundancyReport {
   bool singular_start = false;            // rank loss only at the start pose
   int nearby_rank = -1;                   // the largest rank at the nearby poses (-1: not measured)
   std::string mobility_warning;           // expected_dof differs from rank_dof (also in warnings())
+};
+
+struct ForceRowRef;  // one Force row (src/multibody/row_rank.hpp)
+
+// A pose passed during the run where every subset of the rows was nearly
+// dependent (row_subset.cpp): assembly branches cross there.
+struct SingularPose {
+  double t = 0.0;
+  double condition = 1.0;   // smallest min|R_kk|/max|R_kk| of the kept rows seen there, relative to the start's
+  std::string joints;       // the joints in the near-dependency, space-separated
 };
 
 class MultibodyProblem final : public DaeProblem {
@@ -186,6 +211,34 @@ class MultibodyProblem final : public DaeProblem {
   const RedundancyReport& redundancy() const { return redundancy_; }
   // What an assembled start ([mechanism] assemble / hold) did; done = false without one.
   const AssemblyReport& assembly() const { return assembly_; }
+  // The rows set aside now: the start's (redundancy().dropped) until the
+  // subset is chosen again during the run (row_subset.cpp).
+  const std::vector<RedundantRow>& set_aside() const { return set_aside_; }
+  // How often the subset was chosen again, and the largest dependency
+  // coefficient |alpha| seen at an accepted step (0 without rows set aside).
+  int subset_changes() const { return subset_changes_; }
+  // Singular poses met during the run (only in mechanisms with rows set aside).
+  const std::vector<SingularPose>& singular_poses() const { return singular_poses_; }
+  double largest_dependency() const { return largest_dependency_; }
+  // The largest amplification of the multipliers by the kept rows met when
+  // their |alpha| had grown (row_subset.cpp; 0 when never measured).
+  double largest_amplification() const { return largest_amplification_; }
+  // After an accepted step at y: re-checks the independent subset (see
+  // row_subset.cpp) and chooses it again when it has become ill-conditioned
+  // and inflates the multipliers (read from y when multipliers_in_y; the ODE
+  // form's state holds none). Returns true when the masks changed (the
+  // multipliers must be made consistent again). Records a "row_subset" event.
+  bool check_row_subset(double t, const double* y, bool multipliers_in_y = true);
+  // The multipliers of the rows set aside (held at 0): their number, the
+  // same whichever rows are set aside.
+  int held_unknowns() const override;
+  // Parts of it: all the rows' conditioning at the start's rank, a singular
+  // pose noted; the kept multipliers against the minimum-norm ones.
+  void watch_singular_pose(double t, const Eigen::SparseMatrix<double, Eigen::ColMajor, long>& Gt,
+                           const std::vector<ForceRowRef>& refs);
+  double multiplier_amplification(const Eigen::SparseMatrix<double, Eigen::ColMajor, long>& Gt,
+                                  const std::vector<ForceRowRef>& refs, const std::vector<int>& block_of,
+                                  const std::vector<int>& kept, const double* y) const;
   // "JOINT.ROW" of a dropped row, with the joint's file:line:col.
   std::string dropped_row_source(int k) const;
   // Largest |Phi| and |G v| of the dropped rows at y (0 when none).
@@ -415,6 +468,15 @@ class MultibodyProblem final : public DaeProblem {
   std::vector<std::string> warnings_;
   RedundancyReport redundancy_;
   std::vector<std::vector<int>> dropped_of_joint_;  // indices into redundancy_.dropped
+  std::vector<RedundantRow> set_aside_;             // the rows inactive now (index: in the joint's block)
+  int subset_changes_ = 0;
+  std::vector<SingularPose> singular_poses_;
+  bool near_singular_ = false;     // inside a singular pose's neighbourhood (row_subset.cpp)
+  double start_condition_ = -1.0;  // all the rows' R ratio at the start's rank, at the first check
+  double subset_baseline_ = 1.0;
+  double start_baseline_ = 1.0;  // the start's  // max |alpha| right after the last choice of the subset
+  double largest_dependency_ = 0.0;
+  double largest_amplification_ = 0.0;
   std::unique_ptr<BlockEval> dropped_eval_;
   MinimumNormReactions minimum_norm_;
   // support_force's scratch: a residual row (plus one free body's), y' = 0,

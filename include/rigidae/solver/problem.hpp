@@ -105,6 +105,11 @@ class DaeProblem {
   // Per-unknown absolute tolerances from the user's (rtol, atol) and the start y0.
   virtual void absolute_tolerances(double rtol, double atol, const Eigen::VectorXd& y0,
                                    Eigen::Ref<Eigen::VectorXd> out) const = 0;
+  // How many unknowns the residual holds at a fixed value (a mechanism's
+  // multipliers of rows set aside, lambda_r = 0). IDA's norms are root mean
+  // squares over all size() unknowns: the driver scales its weights by
+  // sqrt(size() / (size() - held)) so that these do not loosen its tests.
+  virtual int held_unknowns() const { return 0; }
 
   // The hot path. Allocates nothing. Returns false when F is not finite
   // (the integrator then retries with a smaller step).
