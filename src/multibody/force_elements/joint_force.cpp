@@ -16,11 +16,8 @@
 // No potential (s depends on t): the energy check integrates the power
 // F s(t) d' (ForceElement::power).
 #include <optional>
-#include <stdexcept>
-#include <string>
 
-#include "rigidae/multibody/constraint_rows.hpp"
-#include "rigidae/multibody/force_element.hpp"
+#include "joint_element.hpp"
 
 namespace rigidae::multibody {
 
@@ -31,12 +28,7 @@ class JointForce final : public ForceElement {
   explicit JointForce(const JointSpec& js) : force_(js.motor_force), profile_(js.motor_profile) {
     body_[0] = js.body_a;
     body_[1] = js.body_b;
-    for (const JointCoordinate& c : js.type->coordinates)
-      if (c.kind == CoordinateKind::Length) {
-        c.rows(js, rows_);
-        return;
-      }
-    throw std::logic_error("a joint force on a joint type without a displacement: " + std::string(js.type->name));
+    joint_coordinate_rows(js, CoordinateKind::Length, rows_, "a linear motor");
   }
 
   void add_force(const ForceBodies& b, double* F) override {
@@ -74,14 +66,7 @@ class JointForce final : public ForceElement {
   }
 
  private:
-  BlockSides sides(const ForceBodies& b) const {
-    BlockSides s;
-    for (int x = 0; x < 2; ++x) {
-      s.body[x] = body_[x];
-      s.state[x] = b.of(body_[x]);
-    }
-    return s;
-  }
+  BlockSides sides(const ForceBodies& b) const { return joint_sides(body_, b); }
   double value(double t) const { return profile_ ? force_ * profile_->value(t) : force_; }
 
   int body_[2] = {kGround, kGround};

@@ -39,8 +39,7 @@
 #include <string>
 
 #include "rigidae/multibody/angle_branch.hpp"
-#include "rigidae/multibody/constraint_rows.hpp"
-#include "rigidae/multibody/force_element.hpp"
+#include "joint_element.hpp"
 
 namespace rigidae::multibody {
 
@@ -61,12 +60,7 @@ class TorsionSpring final : public ForceElement {
     motor_torque_ = js.motor_torque;
     motor_profile_ = js.motor_profile;
     // The joint type's first angle (revolute: C = n_a . n_b, S = (z_a x n_a) . n_b).
-    for (const JointCoordinate& c : js.type->coordinates)
-      if (c.kind == CoordinateKind::Angle) {
-        c.rows(js, rows_);
-        return;
-      }
-    throw std::logic_error("a torsional spring on a joint type without an angle: " + std::string(js.type->name));
+    joint_coordinate_rows(js, CoordinateKind::Angle, rows_, "a torsional spring or motor");
   }
 
   void add_force(const ForceBodies& b, double* F) override {
@@ -154,14 +148,7 @@ class TorsionSpring final : public ForceElement {
   }
 
  private:
-  BlockSides sides(const ForceBodies& b) const {
-    BlockSides s;
-    for (int x = 0; x < 2; ++x) {
-      s.body[x] = body_[x];
-      s.state[x] = b.of(body_[x]);
-    }
-    return s;
-  }
+  BlockSides sides(const ForceBodies& b) const { return joint_sides(body_, b); }
   double motor(double t) const {
     if (motor_torque_ == 0.0) return 0.0;
     return motor_profile_ ? motor_torque_ * motor_profile_->value(t) : motor_torque_;
