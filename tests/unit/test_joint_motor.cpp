@@ -92,11 +92,33 @@ std::string slider_scene(const std::string& coordinates, const std::string& equa
 
 constexpr double kForce = 1.2, kMa = 2.0, kMb = 1.5;  // N, kg
 
-double exact_displacement(double t) {
-  return kForce * (1.0 / kMa + 1.0 / kMb) * (t * t / 2 + t * t * t / 3 - t * t * t * t / 24);
-}
+// The double integral of the profile s(t) = 1 + 2 t - t^2/2 from rest.
+double profile_twice_integrated(double t) { return t * t / 2 + t * t * t / 3 - t * t * t * t / 24; }
+double exact_displacement(double t) { return kForce * (1.0 / kMa + 1.0 / kMb) * profile_twice_integrated(t); }
+double exact_angle(double t) { return kTau * (1.0 / kIa + 1.0 / kIb) * profile_twice_integrated(t); }
 
-double exact_angle(double t) { return kTau * (1.0 / kIa + 1.0 / kIb) * (t * t / 2 + t * t * t / 3 - t * t * t * t / 24); }
+// One run of the pair: the largest miss of the joint's coordinate column
+// against its closed form over the grid, and the largest |momentum column|.
+struct PairRun {
+  SolveOutcome outcome;
+  double miss = 0.0, momentum = 0.0;
+};
+
+PairRun run_pair(const std::string& text, const std::string& folder, const std::string& coordinate,
+                 double (*exact)(double), const std::string& momentum_column) {
+  const Scene s = io::parse_scene(text, "motor_pair.toml");
+  const auto dir = test::fresh_temp_dir(folder);
+  PairRun r{solve_scene(s, dir)};
+  REQUIRE(r.outcome.run.status == RunStatus::Success);
+  const auto rows = test::read_csv_rows(dir / "trajectory.csv");
+  REQUIRE(rows.size() == 41);
+  for (const auto& row : rows) {
+    const double t = std::stod(row.at("t"));
+    r.miss = std::max(r.miss, std::abs(std::stod(row.at(coordinate)) - exact(t)));
+    r.momentum = std::max(r.momentum, std::abs(std::stod(row.at(momentum_column))));
+  }
+  return r;
+}
 
 }  // namespace
 
@@ -105,18 +127,10 @@ TEST_CASE("joint motor: two bodies driven against each other turn by the closed 
     for (const char* eq : {"euler", "lagrange"}) {
       CAPTURE(coords);
       CAPTURE(eq);
-      const Scene s = io::parse_scene(motor_scene(coords, eq), "motor_pair.toml");
-      const auto dir = test::fresh_temp_dir(std::string("joint_motor_") + coords + "_" + eq);
-      const SolveOutcome o = solve_scene(s, dir);
-      REQUIRE(o.run.status == RunStatus::Success);
-      const auto rows = test::read_csv_rows(dir / "trajectory.csv");
-      REQUIRE(rows.size() == 41);
-      double angle_miss = 0.0, momentum = 0.0;
-      for (const auto& r : rows) {
-        const double t = std::stod(r.at("t"));
-        angle_miss = std::max(angle_miss, std::abs(std::stod(r.at("hinge.angle")) - exact_angle(t)));
-        momentum = std::max(momentum, std::abs(std::stod(r.at("L_z"))));
-      }
+      const PairRun r = run_pair(motor_scene(coords, eq), std::string("joint_motor_") + coords + "_" + eq,
+                                 "hinge.angle", exact_angle, "L_z");
+      const SolveOutcome& o = r.outcome;
+      const double angle_miss = r.miss, momentum = r.momentum;
       MESSAGE("angle off by " << angle_miss << " rad (of " << exact_angle(2.0) << "), |L_z| <= " << momentum
                               << " N m s, energy balance " << o.drifts.energy << " (tolerance " << o.drifts.tolerance
                               << ")");
@@ -144,18 +158,10 @@ TEST_CASE("linear motor: two bodies pushed apart along a slider move by the clos
     for (const char* eq : {"euler", "lagrange"}) {
       CAPTURE(coords);
       CAPTURE(eq);
-      const Scene s = io::parse_scene(slider_scene(coords, eq), "motor_slider.toml");
-      const auto dir = test::fresh_temp_dir(std::string("linear_motor_") + coords + "_" + eq);
-      const SolveOutcome o = solve_scene(s, dir);
-      REQUIRE(o.run.status == RunStatus::Success);
-      const auto rows = test::read_csv_rows(dir / "trajectory.csv");
-      REQUIRE(rows.size() == 41);
-      double miss = 0.0, momentum = 0.0;
-      for (const auto& r : rows) {
-        const double t = std::stod(r.at("t"));
-        miss = std::max(miss, std::abs(std::stod(r.at("slider.displacement")) - exact_displacement(t)));
-        momentum = std::max(momentum, std::abs(std::stod(r.at("p_z"))));
-      }
+      const PairRun r = run_pair(slider_scene(coords, eq), std::string("linear_motor_") + coords + "_" + eq,
+                                 "slider.displacement", exact_displacement, "p_z");
+      const SolveOutcome& o = r.outcome;
+      const double miss = r.miss, momentum = r.momentum;
       MESSAGE("displacement off by " << miss << " m (of " << exact_displacement(2.0) << "), |p_z| <= " << momentum
                                      << " N s, energy balance " << o.drifts.energy << " (tolerance "
                                      << o.drifts.tolerance << ")");
