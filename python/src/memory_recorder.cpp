@@ -21,14 +21,14 @@ std::vector<std::string> split(const std::string& header) {
 
 }  // namespace
 
-MemoryRecorder::MemoryRecorder(const ChartState& problem, const Scene& scene, bool keep_steps, bool keep_grid)
+MemoryRecorder::MemoryRecorder(const OneBodyView& problem, const Scene& scene, bool keep_steps, bool keep_grid)
     : problem_(problem),
       keep_steps_(keep_steps),
       keep_grid_(keep_grid),
       with_chart_(problem.representation().has_charts()),
-      step_observer_(problem.system(), scene),
-      grid_observer_(problem.system(), scene) {
-  const std::vector<std::string> names = problem.system().multiplier_names();
+      step_observer_(problem, scene),
+      grid_observer_(problem, scene) {
+  const std::vector<std::string> names = problem.multiplier_names();
   step_columns_ = split(columns::header(columns::kSteps, names, with_chart_));
   grid_columns_ = split(columns::header(columns::kTrajectory, names, with_chart_));
   const int nm = static_cast<int>(names.size());
@@ -67,7 +67,7 @@ void MemoryRecorder::append(std::vector<double>& rows, columns::File file, const
 }
 
 void MemoryRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& y) {
-  const Observation o = step_observer_.observe(t, y, problem_.chart());
+  const Observation o = step_observer_.observe(t, y);
   if (keep_steps_) {
     const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
     append(steps_, columns::kSteps, columns::Sample{t, h, order, &o, chart, {}});
@@ -76,7 +76,7 @@ void MemoryRecorder::on_step(double t, double h, int order, const Eigen::VectorX
 }
 
 void MemoryRecorder::on_output(double t, const Eigen::VectorXd& y) {
-  const Observation o = grid_observer_.observe(t, y, problem_.chart());
+  const Observation o = grid_observer_.observe(t, y);
   if (keep_grid_) {
     const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
     append(grid_, columns::kTrajectory, columns::Sample{t, 0.0, 0, &o, chart, {}});

@@ -24,7 +24,7 @@ struct EventRow {
 class MemoryRecorder final : public RecordingSink {
  public:
   // keep_steps / keep_grid: hold those rows (the extremes are kept either way).
-  MemoryRecorder(const ChartState& problem, const Scene& scene, bool keep_steps, bool keep_grid);
+  MemoryRecorder(const OneBodyView& problem, const Scene& scene, bool keep_steps, bool keep_grid);
 
   void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
   void on_output(double t, const Eigen::VectorXd& y) override;
@@ -43,7 +43,7 @@ class MemoryRecorder final : public RecordingSink {
  private:
   void append(std::vector<double>& rows, columns::File file, const columns::Sample& s);
 
-  const ChartState& problem_;
+  const OneBodyView& problem_;
   bool keep_steps_, keep_grid_, with_chart_;
   Observer step_observer_, grid_observer_;
   std::vector<std::string> step_columns_, grid_columns_, chart_names_;

@@ -158,7 +158,7 @@ py::dict solve(const Scene& scene, const std::string& record, const std::optiona
   {
     InterruptScope interrupt;
     py::gil_scoped_release release;
-    o = solve_with(scene, [&](const ChartState& problem) {
+    o = solve_with(scene, [&](const OneBodyView& problem) {
       memory = std::make_unique<python::MemoryRecorder>(problem, scene, record == "steps", record != "none");
       if (!out_dir) return RunSink{memory.get(), {}};
       files = std::make_unique<RunRecorder>(problem, scene, *out_dir);

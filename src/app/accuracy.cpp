@@ -4,7 +4,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include "rigidae/dae/dae_system.hpp"
+#include <optional>
+
+#include "rigidae/model/one_body_system.hpp"
+#include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/multibody/one_body_view.hpp"
 #include "rigidae/so3/rotation.hpp"
 
 namespace rigidae {
@@ -50,7 +54,17 @@ RunAccuracy measure_accuracy(const Scene& scene, const GridTrajectory& run, cons
   const std::size_t n = std::min(run.t.size(), ref.t.size());
   reached_end = reached_end && n == ref.t.size() && n > 0;
 
-  const std::unique_ptr<DaeSystem> dae = run.multiplier_names.empty() ? nullptr : assemble_dae(scene);
+  // The exact multipliers: the system's consistent state at the reference's
+  // physical state (the start chart: only Euler angles have charts, and
+  // they have no multipliers).
+  std::optional<Scene> system_scene;
+  std::optional<multibody::MultibodyProblem> system;
+  std::optional<OneBodyView> dae;
+  if (!run.multiplier_names.empty()) {
+    system_scene.emplace(one_body_system(scene));
+    system.emplace(*system_scene);
+    dae.emplace(*system, scene);
+  }
   std::vector<int> lambda_cols, mu_cols;  // positions in the DAE's multiplier order
   Eigen::VectorXd y, yp;
   int first_multiplier = 0;
@@ -61,7 +75,7 @@ RunAccuracy measure_accuracy(const Scene& scene, const GridTrajectory& run, cons
       const int pos = it == names.end() ? -1 : static_cast<int>(it - names.begin());
       (run.multiplier_names[k].rfind("lambda_", 0) == 0 ? lambda_cols : mu_cols).push_back(pos);
     }
-    first_multiplier = dae->layout().lambda_offset();
+    first_multiplier = dae->multiplier_offset();
   }
 
   ErrorSeries orientation, omega, lambda, mu;
@@ -69,7 +83,7 @@ RunAccuracy measure_accuracy(const Scene& scene, const GridTrajectory& run, cons
     orientation.add(so3::quaternion_distance(run.q_WB[i], ref.q_WB[i]));
     omega.add((run.omega_B[i] - ref.omega_B[i]).norm());
     if (!dae) continue;
-    dae->consistent_state(dae->start_chart(), ref.t[i], so3::quaternion_to_matrix(ref.q_WB[i]), ref.omega_B[i], y, yp);
+    dae->consistent_state(ref.t[i], so3::quaternion_to_matrix(ref.q_WB[i]), ref.omega_B[i], y, yp);
     double e_lambda = 0.0, e_mu = 0.0;
     std::size_t li = 0, mi = 0;
     for (std::size_t k = 0; k < run.multiplier_names.size(); ++k) {

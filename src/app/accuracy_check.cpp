@@ -40,11 +40,10 @@ constexpr double kConstraintPerStepLimit = 10.0;
 
 }  // namespace
 
-InvariantMonitor::InvariantMonitor(const DaeSystem& dae, const Scene& scene, RecordingSink& recorder)
-    : recorder_(recorder), body_(dae.body()) {
+InvariantMonitor::InvariantMonitor(const OneBodyView& problem, const Scene& scene, RecordingSink& recorder)
+    : recorder_(recorder), body_(problem.body()) {
   d_ = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
-  checked_ = !scene.multibody.has_value();
-  constrained_ = dae.representation().nc() > 0;
+  constrained_ = problem.representation().nc() > 0;
   const RigidBodyModel& b = body_;
   const double T0 = b.kinetic_energy(scene.omega0_B);
   const double exchange = b.mass * b.gravity_W.norm() * b.c_B.norm();
@@ -59,17 +58,14 @@ InvariantMonitor::InvariantMonitor(const DaeSystem& dae, const Scene& scene, Rec
   // No torque about the reference point: gravity absent or acting at it.
   full_momentum_ = exchange == 0.0;
   d_.tolerance = scene.solver.rtol + scene.solver.atol / std::min(1.0, w_scale_);
-  if (checked_) {
-    d_.energy = 0.0;
-    (full_momentum_ ? d_.angular_momentum : d_.vertical_angular_momentum) = 0.0;
-    if (constrained_) d_.constraint_position = d_.constraint_velocity = 0.0;
-  }
+  d_.energy = 0.0;
+  (full_momentum_ ? d_.angular_momentum : d_.vertical_angular_momentum) = 0.0;
+  if (constrained_) d_.constraint_position = d_.constraint_velocity = 0.0;
 }
 
 void InvariantMonitor::on_step(double t, double h, int order, const Eigen::VectorXd& y) {
   recorder_.on_step(t, h, order, y);
   ++steps_;
-  if (!checked_) return;
   const Observation& o = recorder_.extremes().last;  // this step's, just observed
   d_.energy = std::max(d_.energy, std::abs(o.energy - e0_) / e_scale_);
   if (full_momentum_) {

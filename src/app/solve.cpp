@@ -17,8 +17,9 @@
 
 #include "rigidae/app/run_integrator.hpp"
 #include "rigidae/core/error.hpp"
-#include "rigidae/dae/dae_system.hpp"
-#include "rigidae/dae/single_body_problem.hpp"
+#include "rigidae/model/one_body_system.hpp"
+#include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/multibody/one_body_view.hpp"
 #include "rigidae/io/checked_file.hpp"
 #include "rigidae/record/columns.hpp"
 #include "rigidae/settings/settings.hpp"
@@ -169,7 +170,7 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
   if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", out_dir.string(), ec.message()));
 
   std::unique_ptr<RunRecorder> recorder;
-  SolveOutcome o = solve_with(scene, [&](const ChartState& problem) {
+  SolveOutcome o = solve_with(scene, [&](const OneBodyView& problem) {
     recorder = std::make_unique<RunRecorder>(problem, scene, out_dir);
     return RunSink{recorder.get(), [&] { recorder->close(); }};
   });
@@ -187,25 +188,32 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
   return o;
 }
 
-SolveOutcome solve_with(const Scene& scene, const std::function<RunSink(const ChartState&)>& attach) {
-  std::unique_ptr<DaeSystem> dae = assemble_dae(scene);
+SolveOutcome solve_with(const Scene& scene, const std::function<RunSink(const OneBodyView&)>& attach) {
+  // The scene as a system of one pivoted body (model/one_body_system.hpp),
+  // the model every scene runs on; the view reads it as the one-body records do.
+  const Scene system_scene = one_body_system(scene);
+  check_multibody_integrator(system_scene);
+  multibody::MultibodyProblem system(system_scene);
+  const OneBodyView view(system, scene);
+  // What the scheme says of itself on this representation (its note, the
+  // parameters it used): the registry's scheme, which writes the rows.
+  const std::unique_ptr<ConstraintScheme> scheme = make_scheme(scene.formulation.scheme, scheme_settings(scene));
   SolveOutcome o;
-  o.representation = dae->representation().name();
-  o.scheme = dae->scheme().name();
-  o.note = dae->scheme().note(dae->representation());
-  o.multiplier_names = dae->multiplier_names();
-  o.scheme_parameters = dae->scheme().parameters();
+  o.representation = view.representation().name();
+  o.scheme = scheme->name();
+  o.note = scheme->note(view.representation());
+  o.multiplier_names = view.multiplier_names();
+  o.scheme_parameters = scheme->parameters();
   o.multipliers_error =
-      multiplier_error_control(scene.solver.integrator, dae->scheme().suppress_multiplier_error_test(), o.scheme);
+      multiplier_error_control(scene.solver.integrator, system.suppress_algebraic_error_test(), o.scheme);
 
-  IntegratorRun run(*dae, scene);
-  const RunSink recording = attach(run.chart_state());
+  const RunSink recording = attach(view);
   RecordingSink& recorder = *recording.sink;
-  InvariantMonitor monitor(*dae, scene, recorder);
+  InvariantMonitor monitor(view, scene, recorder);
   const auto t0 = std::chrono::steady_clock::now();
   std::string lost;  // the first output file that could not be written completely
   try {
-    o.run = run.run(monitor);
+    o.run = run_multibody(system, system_scene, monitor);
   } catch (const SolverError& e) {
     o.run.status = RunStatus::Failed;
     o.run.message = e.what();

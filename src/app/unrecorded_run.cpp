@@ -8,7 +8,7 @@
 #include "rigidae/app/solve.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
-#include "rigidae/record/observation.hpp"
+#include "rigidae/model/one_body_system.hpp"
 #include "rigidae/record/recorder.hpp"
 #include "rigidae/so3/rotation.hpp"
 #include "solve_multibody.hpp"
@@ -20,12 +20,10 @@ namespace {
 // Keeps the last output state (a copy into storage sized once) and nothing else.
 class LastOutput final : public RecordingSink {
  public:
-  explicit LastOutput(const ChartState* charts) : charts_(charts) {}
   void on_step(double, double, int, const Eigen::VectorXd&) override {}
   void on_output(double t, const Eigen::VectorXd& y) override {
     t_ = t;
     y_ = y;
-    if (charts_) chart_ = charts_->chart();
   }
   void on_event(const EventNote&) override {}
   bool needs_every_output() const override { return false; }  // the drivers skip the other grid points
@@ -33,17 +31,17 @@ class LastOutput final : public RecordingSink {
 
   double t_ = 0.0;
   Eigen::VectorXd y_;
-  int chart_ = 0;
 
  private:
-  const ChartState* charts_;
   RunExtremes extremes_;  // none kept: the accuracy check of a timed run is not used
 };
 
-UnrecordedRun multibody_run(const Scene& scene) {
+// Every scene runs as a system of bodies (a one-body scene as one pivoted
+// body): its bodies' final orientations, positions and space angular velocities.
+UnrecordedRun system_run(const Scene& scene) {
   check_multibody_integrator(scene);
   multibody::MultibodyProblem problem(scene);
-  LastOutput sink(nullptr);
+  LastOutput sink;
   UnrecordedRun r;
   const auto t0 = std::chrono::steady_clock::now();
   try {
@@ -70,29 +68,7 @@ UnrecordedRun multibody_run(const Scene& scene) {
 
 }  // namespace
 
-UnrecordedRun run_unrecorded(const Scene& scene) {
-  if (scene.multibody) return multibody_run(scene);
-  std::unique_ptr<LastOutput> sink;
-  Observation last;
-  // The problem lives inside solve_with: the last state is observed when the
-  // run closes its sink (after the timed part).
-  const SolveOutcome o = solve_with(scene, [&](const ChartState& problem) {
-    sink = std::make_unique<LastOutput>(&problem);
-    return RunSink{sink.get(), [&] {
-                     Observer observer(problem.system(), scene);
-                     if (sink->y_.size() > 0) last = observer.observe(sink->t_, sink->y_, sink->chart_);
-                   }};
-  });
-  UnrecordedRun r;
-  r.run = o.run;
-  r.wall_seconds = o.wall_seconds;
-  r.last.bodies = {"body"};
-  r.last.t = {sink->t_};
-  r.last.q_WB = {{last.q_WB}};
-  r.last.x_W = {{Vec3::Zero()}};
-  r.last.omega_W = {{last.omega_B}};
-  return r;
-}
+UnrecordedRun run_unrecorded(const Scene& scene) { return system_run(as_system(scene)); }
 
 double final_orientation_error(const UnrecordedRun& r, const ReferenceTrajectory& ref) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();

@@ -23,4 +23,6 @@ Scene one_body_system(const Scene& s) {
   return out;
 }
 
+Scene as_system(const Scene& s) { return s.multibody ? s : one_body_system(s); }
+
 }  // namespace rigidae

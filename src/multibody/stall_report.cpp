@@ -21,8 +21,18 @@
 namespace rigidae::multibody {
 
 std::string MultibodyProblem::describe_stall(double t, const double* y) {
-  std::string text = fmt::format("Scheme: {} on {} bodies and {} joints.", scheme_.name, bodies_.size(),
-                                 spec_.joints.size());
+  // The formulation as summary.json names it (the first body's coordinates
+  // and form: a scene has one formulation), then the system's size.
+  std::string formulation = "point masses";
+  for (const BodyModel& b : bodies_)
+    if (!b.particle) {
+      formulation = b.rep->name();
+      break;
+    }
+  std::string text = fmt::format("Formulation: {} with scheme {}", formulation, scheme_.name);
+  text += !spec_.joints.empty() || bodies_.size() > 1
+              ? fmt::format(", on {} bodies and {} joints.", bodies_.size(), spec_.joints.size())
+              : std::string(".");
   evaluate(t, y, 2);
   for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) evaluate_block(j, y, nullptr);
   Eigen::SparseMatrix<double> G;

@@ -6,8 +6,8 @@
 
 namespace rigidae {
 
-Observer::Observer(const DaeSystem& dae, const Scene& scene) : dae_(dae) {
-  const RigidBodyModel& b = dae.body();
+Observer::Observer(const OneBodyView& view, const Scene& scene) : view_(view) {
+  const RigidBodyModel& b = view.body();
   energy0_ = b.kinetic_energy(scene.omega0_B) + b.potential_energy(scene.R0_WB);
   energy_scale_ = std::abs(energy0_) > 0 ? std::abs(energy0_) : 1.0;
   lz0_ = b.vertical_angular_momentum(scene.R0_WB, scene.omega0_B);
@@ -15,11 +15,11 @@ Observer::Observer(const DaeSystem& dae, const Scene& scene) : dae_(dae) {
   momentum_scale_ = L0 > 0 ? L0 : 1.0;
 }
 
-Observation Observer::observe(double t, const Eigen::VectorXd& y, int chart) {
-  const Representation& rep = dae_.representation(chart);
-  const RigidBodyModel& b = dae_.body();
-  const VecQ q = dae_.coordinates(y.data());
-  const VecV v = dae_.velocities(y.data());
+Observation Observer::observe(double t, const Eigen::VectorXd& y) {
+  const Representation& rep = view_.representation();
+  const RigidBodyModel& b = view_.body();
+  const VecQ q = view_.coordinates(y.data());
+  const VecV v = view_.velocities(y.data());
 
   Observation o;
   o.t = t;
@@ -27,9 +27,8 @@ Observation Observer::observe(double t, const Eigen::VectorXd& y, int chart) {
   if (o.q_WB.dot(last_q_) < 0) o.q_WB = -o.q_WB;
   last_q_ = o.q_WB;
   o.omega_B = rep.body_angular_velocity(q, v);
-  o.drift = dae_.drift(chart, t, y.data());
-  const UnknownLayout& lay = dae_.layout();
-  o.multipliers = y.segment(lay.lambda_offset(), lay.n_lambda + lay.n_mu);
+  o.drift = view_.drift(t, y.data());
+  o.multipliers = y.segment(view_.multiplier_offset(), view_.multiplier_count());
 
   const Mat3 R = so3::quaternion_to_matrix(o.q_WB);
   o.energy = b.kinetic_energy(o.omega_B) + b.potential_energy(R);

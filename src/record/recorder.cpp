@@ -58,21 +58,21 @@ namespace {
 
 // The units line's addition when the run has multipliers and they are not
 // error-controlled (record/error_control.hpp).
-std::string multipliers_note(const ChartState& problem, const Scene& scene) {
-  if (problem.system().multiplier_names().empty()) return "";
+std::string multipliers_note(const OneBodyView& problem, const Scene& scene) {
+  if (problem.multiplier_names().empty()) return "";
   const MultiplierErrorControl c = multiplier_error_control(
-      scene.solver.integrator, problem.system().scheme().suppress_multiplier_error_test(), problem.system().scheme().name());
+      scene.solver.integrator, problem.system().suppress_algebraic_error_test(), problem.system().scheme().name);
   return c.controlled ? std::string() : "; multipliers NOT error-controlled: " + c.note;
 }
 
 }  // namespace
 
-RunRecorder::RunRecorder(const ChartState& problem, const Scene& scene, const std::filesystem::path& out_dir)
+RunRecorder::RunRecorder(const OneBodyView& problem, const Scene& scene, const std::filesystem::path& out_dir)
     : problem_(problem),
-      multiplier_names_(problem.system().multiplier_names()),
+      multiplier_names_(problem.multiplier_names()),
       with_chart_(problem.representation().has_charts()),
-      step_observer_(problem.system(), scene),
-      grid_observer_(problem.system(), scene),
+      step_observer_(problem, scene),
+      grid_observer_(problem, scene),
       steps_(columns::single_body(), multiplier_names_, with_chart_, scene.output, out_dir,
              multipliers_note(problem, scene)),
       trajectory_(open_csv_if(scene.output.record != RecordMode::None, out_dir / "trajectory.csv",
@@ -96,7 +96,7 @@ void RunRecorder::write_row(CheckedStream& f, columns::File file, const columns:
 }
 
 void RunRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& y) {
-  const Observation o = step_observer_.observe(t, y, problem_.chart());
+  const Observation o = step_observer_.observe(t, y);
   if (steps_) {
     const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
     steps_.write({t, h, order, &o, chart, {}});
@@ -108,7 +108,7 @@ void RunRecorder::on_output(double t, const Eigen::VectorXd& y) {
   const bool row = trajectory_ && (seen_start_ || start_is_output_);
   seen_start_ = true;
   if (!row && extremes_.steps_recorded > 0) return;
-  const Observation o = grid_observer_.observe(t, y, problem_.chart());
+  const Observation o = grid_observer_.observe(t, y);
   if (row) {
     const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
     write_row(trajectory_->file(), columns::kTrajectory, {t, 0.0, 0, &o, chart, {}});

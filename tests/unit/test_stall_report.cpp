@@ -21,7 +21,10 @@ TEST_CASE("stall report: a mechanism at a regular state names its scheme and ful
     Eigen::VectorXd y, yp;
     p.initial_state(s.time.start, y, yp);
     const std::string text = p.describe_stall(s.time.start, y.data());
-    CHECK(text.rfind("Scheme: " + p.scheme().name + " on ", 0) == 0);
+    CHECK(text.rfind("Formulation: " + p.bodies().front().rep->name() + " with scheme " + p.scheme().name + ", on " +
+                         std::to_string(p.bodies().size()) + " bodies and " + std::to_string(s.multibody->joints.size()) +
+                         " joints.",
+                     0) == 0);
     CHECK(text.find("constraint rows keep full rank at t = 0 s") != std::string::npos);
     CHECK(text.find("lost rank") == std::string::npos);
   }

@@ -33,7 +33,7 @@
 #include <string>
 #include <vector>
 
-#include "rigidae/dae/dae_system.hpp"
+#include "rigidae/multibody/one_body_view.hpp"
 #include "rigidae/model/scene.hpp"
 #include "rigidae/record/recorder.hpp"
 #include "rigidae/solver/ida_driver.hpp"
@@ -59,7 +59,7 @@ struct InvariantDrifts {
 // reads each step's observation back from it (no second evaluation).
 class InvariantMonitor final : public StepSink {
  public:
-  InvariantMonitor(const DaeSystem& dae, const Scene& scene, RecordingSink& recorder);
+  InvariantMonitor(const OneBodyView& problem, const Scene& scene, RecordingSink& recorder);
 
   void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
   void on_output(double t, const Eigen::VectorXd& y) override { recorder_.on_output(t, y); }
@@ -71,7 +71,7 @@ class InvariantMonitor final : public StepSink {
  private:
   RecordingSink& recorder_;
   const RigidBodyModel& body_;
-  bool checked_, full_momentum_, constrained_;
+  bool full_momentum_, constrained_;
   double e0_, e_scale_, l_scale_, w_scale_;
   Vec3 L0_W_;
   double lz0_;

@@ -7,8 +7,7 @@
 #include <vector>
 
 #include "rigidae/app/accuracy_check.hpp"
-#include "rigidae/dae/chart_state.hpp"
-#include "rigidae/dae/single_body_problem.hpp"
+#include "rigidae/multibody/one_body_view.hpp"
 #include "rigidae/model/scene.hpp"
 #include "rigidae/record/error_control.hpp"
 #include "rigidae/record/recorder.hpp"
@@ -48,7 +47,7 @@ struct RunSink {
 // solve_scene without its files, for callers that record the run themselves
 // (the Python module keeps it in memory): `attach` receives the assembled problem
 // and returns the recording. out_dir stays empty; nothing is written.
-SolveOutcome solve_with(const Scene& scene, const std::function<RunSink(const ChartState&)>& attach);
+SolveOutcome solve_with(const Scene& scene, const std::function<RunSink(const OneBodyView&)>& attach);
 
 // The text of summary.json for an outcome (what solve_scene writes).
 std::string summary_json(const Scene& scene, const SolveOutcome& o);

@@ -13,8 +13,8 @@ namespace rigidae {
 struct UnrecordedRun {
   RunResult run;
   double wall_seconds = 0.0;  // the integration alone (no setup, no files)
-  // The last output point only (one row): a multibody scene's bodies, or a
-  // single body named "body" whose omega_W holds the body-frame angular velocity.
+  // The last output point only (one row): the system's bodies (a one-body
+  // scene's is named "body"), space angular velocities.
   BodyGrid last;
 };
 

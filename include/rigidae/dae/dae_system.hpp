@@ -9,18 +9,12 @@
 #include "rigidae/coords/representation.hpp"
 #include "rigidae/model/rigid_body.hpp"
 #include "rigidae/model/scene.hpp"
+#include "rigidae/schemes/constraint_drift.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/solver/problem.hpp"
 
 namespace rigidae {
 
-// Constraint residuals of a state: position level |Phi(q)|, velocity level
-// |G v| (Force kind) or |Phi_q N v| = |d/dt Phi| along the kinematics
-// (Kinematic kind). Euclidean norms; zero when there are no constraints.
-struct ConstraintDrift {
-  double position = 0.0;
-  double velocity = 0.0;
-};
 
 // Immutable once built: the representation in each of its charts, the
 // scheme, the layout of unknowns and the sparse pattern. What a run changes

@@ -18,4 +18,8 @@ namespace rigidae {
 // (formulation, solver, time, output) kept. `s` must be a one-body scene.
 Scene one_body_system(const Scene& s);
 
+// Any scene as the system the multibody model runs: itself when it has
+// bodies and joints (schema 2, URDF), else one_body_system(s).
+Scene as_system(const Scene& s);
+
 }  // namespace rigidae

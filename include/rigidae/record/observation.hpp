@@ -2,7 +2,7 @@
 // What a user reads off one state, whatever the coordinates: the orientation
 // as a unit quaternion, the body angular velocity, constraint drift, the
 // multipliers and the invariants with their errors against t = start.
-#include "rigidae/dae/dae_system.hpp"
+#include "rigidae/multibody/one_body_view.hpp"
 
 namespace rigidae {
 
@@ -24,12 +24,12 @@ struct Observation {
 // one observation to the next (q and -q are the same rotation).
 class Observer {
  public:
-  Observer(const DaeSystem& dae, const Scene& scene);
-  // y with its coordinates in chart `chart` (see DaeSystem).
-  Observation observe(double t, const Eigen::VectorXd& y, int chart);
+  Observer(const OneBodyView& view, const Scene& scene);
+  // y of the view's system, its coordinates in the chart the run is in now.
+  Observation observe(double t, const Eigen::VectorXd& y);
 
  private:
-  const DaeSystem& dae_;
+  const OneBodyView& view_;
   double energy0_, energy_scale_;
   double lz0_, momentum_scale_;
   Vec4 last_q_ = Vec4(1, 0, 0, 0);

@@ -23,7 +23,7 @@
 #include "rigidae/io/checked_file.hpp"
 #include "rigidae/record/columns.hpp"
 #include "rigidae/record/npy_file.hpp"
-#include "rigidae/dae/chart_state.hpp"
+#include "rigidae/multibody/one_body_view.hpp"
 #include "rigidae/record/observation.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 
@@ -144,7 +144,7 @@ class RunRecorder final : public RecordingSink {
  public:
   // Observes the problem's states in its current chart; writes what
   // scene.output asks for (and removes a previous run's files it does not write).
-  RunRecorder(const ChartState& problem, const Scene& scene, const std::filesystem::path& out_dir);
+  RunRecorder(const OneBodyView& problem, const Scene& scene, const std::filesystem::path& out_dir);
 
   void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
   void on_output(double t, const Eigen::VectorXd& y) override;
@@ -161,7 +161,7 @@ class RunRecorder final : public RecordingSink {
   // One row of `file` from the table of columns (record/columns.hpp).
   void write_row(CheckedStream& f, columns::File file, const columns::Sample& sample);
 
-  const ChartState& problem_;
+  const OneBodyView& problem_;
   std::vector<std::string> multiplier_names_;
   bool with_chart_;
   Observer step_observer_, grid_observer_;
