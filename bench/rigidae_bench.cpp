@@ -14,10 +14,18 @@
 //       calls at the initial state, median of 7 batches)
 //   rigidae_bench sweep SCENE [--jacobian K] [--rtols a,b,..] [--repeats N] [--budget S]
 //                             [--only LIST] [--skip LIST] [--reference FILE] [--mode M]
-//                             [--integrator I] [--erk-method M]
+//                             [--integrator I] [--erk-method M] [--through-system P]
 //       per combination and rtol (atol = rtol): counters, wall time and the
 //       final orientation error, one JSON line each in the format of
 //       bench/peers/results.jsonl (peer "rigidae", setting_kind "rtol")
+//
+// --through-system by-body | kkt (sweep, --mode unrecorded only): the
+// one-body scene runs as a system of one pivoted body (one_body_system,
+// MultibodyProblem) instead of the one-body model: IDA on it, or its ODE
+// form MultibodyOde on the per-body path (by-body: the one-body arithmetic,
+// schemes/body_ode.hpp) or on the KKT path (kkt: the general mechanism
+// solve). Rows carry "through_system". Callgrind counts of both forms:
+// docs/benchmarks.md, "The ODE form through the multibody model".
 //
 // I is solver.integrator (ida, cvode-adams, cvode-bdf, arkode-erk; default:
 // the scene's) and M solver.erk_method (fehlberg78, verner65, dopri5): the
@@ -57,9 +65,13 @@
 #include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"
+#include "rigidae/model/one_body_system.hpp"
+#include "rigidae/multibody/multibody_ode.hpp"
+#include "rigidae/multibody/multibody_problem.hpp"
 #include "rigidae/so3/rotation.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 #include "rigidae/solver/integrators.hpp"
+#include "rigidae/solver/ode_driver.hpp"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -81,6 +93,7 @@ struct Options {
   std::string mode = "both";
   std::string out, check;
   long calls = 200000;
+  std::string through_system;  // "", "by-body" or "kkt"
 };
 
 Options parse(int argc, char** argv) {
@@ -114,10 +127,15 @@ Options parse(int argc, char** argv) {
     else if (a == "--out") o.out = next();
     else if (a == "--check") o.check = next();
     else if (a == "--calls") o.calls = std::stol(next());
+    else if (a == "--through-system") o.through_system = next();
     else throw InputError("unknown option " + a);
   }
   if (o.mode != "both" && o.mode != "recorded" && o.mode != "unrecorded")
     throw InputError("--mode must be recorded, unrecorded or both");
+  if (!o.through_system.empty() && o.through_system != "by-body" && o.through_system != "kkt")
+    throw InputError("--through-system must be by-body or kkt, not '" + o.through_system + "'");
+  if (!o.through_system.empty() && (o.command != "sweep" || o.mode != "unrecorded"))
+    throw InputError("--through-system runs with sweep --mode unrecorded only");
   return o;
 }
 
@@ -216,6 +234,33 @@ RunSample run_unrecorded(const Scene& s) {
   return r;
 }
 
+// The same integration through the multibody model: the scene as one
+// pivoted body; the ODE form on its per-body path or on the KKT path.
+RunSample run_through_system(const Scene& s, bool by_body) {
+  multibody::MultibodyProblem problem(one_body_system(s));
+  const bool ode_form = find_integrator(s.solver.integrator).is_ode;
+  std::optional<multibody::MultibodyOde> ode;
+  if (ode_form) ode.emplace(problem, false, s.source, true, by_body);
+  FinalStateSink sink;
+  RunSample r;
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    if (ode_form)
+      r.run = integrate_ode(*ode, s.solver, s.time,
+                            {s.solver.integrator, s.solver.erk_method,
+                             {problem.scheme().projection, s.formulation.projection.every_step, projection_threshold(s)}},
+                            sink);
+    else
+      r.run = integrate(problem, s.solver, s.time, sink);
+  } catch (const SolverError& e) {
+    r.run.status = RunStatus::Failed;
+    r.run.message = e.what();
+  }
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (r.run.status == RunStatus::Success && sink.y_last.size() > 0) r.q_end = problem.body_orientation(0, sink.y_last.data());
+  return r;
+}
+
 RunSample run_recorded(const Scene& s, const Combination& c) {
   const fs::path dir = fs::path("/tmp/rigidae-bench-runs") / s.name / c.folder();
   const SolveOutcome o = solve_scene(s, dir);
@@ -279,7 +324,12 @@ json measure(const Scene& s, const Combination& c, const Options& o, const std::
               {"atol", s.solver.atol}};
   std::optional<RunSample> main;
   if (o.mode != "recorded") {
-    auto [r, walls] = repeated([&] { return run_unrecorded(s); }, o.repeats, o.budget_s);
+    auto [r, walls] = repeated(
+        [&] {
+          return o.through_system.empty() ? run_unrecorded(s) : run_through_system(s, o.through_system == "by-body");
+        },
+        o.repeats, o.budget_s);
+    if (!o.through_system.empty()) row["through_system"] = o.through_system;
     row["wall_s_unrecorded"] = bench::median(walls);
     row["repeats_unrecorded"] = walls.size();
     main = r;

@@ -69,7 +69,8 @@ class KluSaddle {
   long fresh_factorisations_ = 0;
 };
 
-MultibodyOde::MultibodyOde(MultibodyProblem& problem, bool sparse, const std::string& where, bool small_dense)
+MultibodyOde::MultibodyOde(MultibodyProblem& problem, bool sparse, const std::string& where, bool small_dense,
+                           bool by_body)
     : problem_(problem) {
   n_ = problem.size();
   n_state_ = problem.state_size();
@@ -80,6 +81,19 @@ MultibodyOde::MultibodyOde(MultibodyProblem& problem, bool sparse, const std::st
                                    "(valid: index1, projection), not '{}'",
                                    where, problem.scheme().name));
   for (const BodyModel& b : problem.bodies()) has_internal_ = has_internal_ || b.rep->nc() > 0;
+  by_body_ = by_body && problem.bodies_decoupled();
+  if (by_body_) {
+    for (std::size_t i = 0; i < problem.bodies().size(); ++i) {
+      const BodyModel& b = problem.bodies()[i];
+      body_ode_.emplace_back(*b.rep);
+      body_offset_.push_back(problem.groups()[b.q_group].offset);
+      if (problem.groups()[b.v_group].offset != body_offset_.back() + b.nqr)
+        throw SolverError("MultibodyOde: a pivoted body's q and v are not contiguous");
+      body_lambda_offset_.push_back(-1);
+    }
+    for (const ConstraintBlock& blk : problem.blocks())
+      body_lambda_offset_[static_cast<std::size_t>(blk.body)] = problem.groups()[blk.lambda_group].offset;
+  }
 
   // Which unknowns of y are q, v or multipliers.
   std::vector<int> pos(n_, -1);
@@ -187,6 +201,12 @@ bool MultibodyOde::solve(const Eigen::VectorXd& b) {
 }
 
 bool MultibodyOde::rhs(double t, const double* x, double* xdot) {
+  if (by_body_) {
+    bool ok = true;
+    for (std::size_t i = 0; i < body_ode_.size(); ++i)
+      ok = body_ode_[i].rate(body_rep(i), t, x + body_offset_[i], xdot + body_offset_[i]) && ok;
+    return ok;
+  }
   if (!factorise(t, x) || !solve(rhs_)) return false;
   // q' = -F_q(t, (q, v, 0), 0); v' and lambda from the KKT solution.
   for (int i : q_index_) xdot[i] = -F0_[i];
@@ -198,6 +218,16 @@ bool MultibodyOde::rhs(double t, const double* x, double* xdot) {
 }
 
 OdeDrift MultibodyOde::drift(double t, const double* x) const {
+  if (by_body_) {
+    // The one-body rule per body (2-norms), the largest over bodies.
+    OdeDrift d{0.0, 0.0};
+    for (std::size_t i = 0; i < body_ode_.size(); ++i) {
+      const schemes::BlockDrift b = body_ode_[i].drift(body_rep(i), t, x + body_offset_[i]);
+      d.position = std::max(d.position, b.position);
+      d.velocity = std::max(d.velocity, b.velocity);
+    }
+    return d;
+  }
   y_drift_.head(n_state_) = Eigen::Map<const Eigen::VectorXd>(x, n_state_);
   y_drift_.tail(n_ - n_state_).setZero();
   // The max norms of the records, not the per-block 2-norms that trigger the
@@ -210,6 +240,10 @@ OdeDrift MultibodyOde::drift(double t, const double* x) const {
 }
 
 void MultibodyOde::project(double t, double* x) {
+  if (by_body_) {
+    for (std::size_t i = 0; i < body_ode_.size(); ++i) body_ode_[i].project(body_rep(i), t, x + body_offset_[i]);
+    return;
+  }
   y_big_.setZero(n_);
   yp_big_.setZero(n_);
   y_big_.head(n_state_) = Eigen::Map<const Eigen::VectorXd>(x, n_state_);
@@ -218,6 +252,11 @@ void MultibodyOde::project(double t, double* x) {
 }
 
 void MultibodyOde::project_error(double t, const double* x, double* e) {
+  if (by_body_) {  // each body's exact linearisation
+    for (std::size_t i = 0; i < body_ode_.size(); ++i)
+      body_ode_[i].project_error(body_rep(i), t, x + body_offset_[i], e + body_offset_[i]);
+    return;
+  }
   // The linearisation of project() at x (CVODE-BDF passes the point just
   // projected) by a difference of project() itself: (P(x + s e) - P(x)) / s,
   // s |e| = 1e-6 max(1, |x|). Both the position part (Gauss-Newton onto
@@ -240,6 +279,15 @@ void MultibodyOde::observe(double t, const double* x, Eigen::VectorXd& y) {
   y.setZero(n_);
   y.head(n_state_) = Eigen::Map<const Eigen::VectorXd>(x, n_state_);
   if (n_lambda_ == 0) return;
+  if (by_body_) {  // each body's own multipliers (Lagrange form), from its Schur complement
+    for (std::size_t i = 0; i < body_ode_.size(); ++i) {
+      schemes::BodyOde& b = body_ode_[i];
+      if (body_lambda_offset_[i] < 0 || !b.force() || b.nc() == 0) continue;
+      b.accelerations(body_rep(i), t, x + body_offset_[i]);
+      y.segment(body_lambda_offset_[i], b.nc()) = b.multipliers();
+    }
+    return;
+  }
   if (!rhs(t, x, xdot_scratch_.data())) {
     for (int k = nv_; k < ns_; ++k) y[s_index_[k]] = std::nan("");
     return;

@@ -621,4 +621,14 @@ std::string MultibodyProblem::row_label(int block, int row) const {
   return where + "joint '" + j.name + "' (" + std::string(j.type->name) + ") row '" + b.row_names[row] + "'";
 }
 
+bool MultibodyProblem::bodies_decoupled() const {
+  for (const ConstraintBlock& blk : blocks_)
+    if (!blk.internal) return false;
+  for (const BodyModel& b : bodies_)
+    if (b.particle || !b.pivoted()) return false;
+  for (const auto& f : forces_)
+    if (f->acts_on_pivoted_bodies()) return false;
+  return true;
+}
+
 }  // namespace rigidae::multibody

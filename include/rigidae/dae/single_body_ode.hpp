@@ -18,12 +18,14 @@
 // The recorded state is the DaeSystem's layout (q | v | lambda), lambda from
 // the KKT solve at the recorded x. Euler-angle charts are events: at a root
 // of margin - threshold the state is re-expressed in the most regular chart.
+// The arithmetic of the right-hand side, the projection and its
+// linearisation is schemes::BodyOde (schemes/body_ode.hpp), shared with the
+// multibody ODE form's decoupled bodies.
 #include <vector>
-
-#include <Eigen/Cholesky>
 
 #include "rigidae/dae/chart_state.hpp"
 #include "rigidae/dae/dae_system.hpp"
+#include "rigidae/schemes/body_ode.hpp"
 #include "rigidae/solver/ode_problem.hpp"
 
 namespace rigidae {
@@ -62,9 +64,6 @@ class SingleBodyOde final : public OdeProblem, public ChartState {
   }
 
  private:
-  // v' and (Force kind) lambda at (t, q, v) into acc_ and lambda_.
-  bool accelerations(double t, const double* x);
-
   const Representation& rep() const { return representation(); }
   // Re-expresses x at t in the most regular chart; notes the switch. False if the chart stayed.
   bool change_chart(double t, Eigen::VectorXd& x);
@@ -74,22 +73,7 @@ class SingleBodyOde final : public OdeProblem, public ChartState {
   const Scene& scene_;
   int nq_ = 0, nv_ = 0, nc_ = 0;
   bool force_ = false;
-  // The factorised mass matrix of the last evaluation, reused while M is
-  // unchanged (constant J in the Euler form: one factorisation per run).
-  const Eigen::LDLT<MatVV>& factorised_mass();
-  Eigen::LDLT<MatVV> mass_ldlt_;
-  MatVV mass_factored_;
-  bool mass_regular_ = true;  // of mass_ldlt_: false for a lamina in linear coordinates
-  // [M G^T; G 0] [x; m] = [top; bottom] at terms_, solved whole: for a mass
-  // matrix that is singular while the saddle-point matrix is not.
-  void saddle_point_solve(const VecV& top, const VecC& bottom, VecV& x, VecC& m) const;
-  // The current chart's fixed-size Euler-form kernel, or nullptr (then rhs()
-  // goes through evaluate() and a solve); follows chart_.
-  const EulerFormRate* kernel_ = nullptr;
-  StandardTerms terms_;  // scratch of the hot path
-  VecQ q_;
-  VecV v_, acc_;
-  VecC lambda_;
+  schemes::BodyOde body_;  // the one-body arithmetic (rhs, projection)
   std::vector<EventNote> notes_;
 };
 

@@ -59,6 +59,11 @@ class ForceElement {
   virtual bool follows_motion() const { return false; }
   virtual void reset() {}
   virtual void follow(const ForceBodies&) {}
+  // Whether add_force can write a pivoted body's rows (its rotation rows:
+  // it has no others). Gravity cannot (a pivoted body's rotation block
+  // carries the gravity torque about its pivot); an element that does not
+  // say is taken to. MultibodyProblem::bodies_decoupled reads it.
+  virtual bool acts_on_pivoted_bodies() const { return true; }
 };
 
 using ForceElements = std::vector<std::unique_ptr<ForceElement>>;

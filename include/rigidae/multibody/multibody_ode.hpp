@@ -40,8 +40,26 @@
 // test keeps the correction of a threshold-triggered projection (up to
 // 100 atol, normal to the manifold) and cuts the step to nothing.
 //
+// Decoupled bodies (MultibodyProblem::bodies_decoupled: no joints or
+// drivers, every body pivoted, no force element acting on one; a one-body
+// scene as one_body_system(scene) is such a system): the KKT matrix is block
+// diagonal, one block per body, and the whole ODE form is taken body by body
+// with the one-body arithmetic (schemes::BodyOde, schemes/body_ode.hpp):
+// the Euler form through the representation's fixed-size kernel, the
+// Lagrange form by the Schur complement of M (the saddle-point solve when M
+// is singular), the projection onto each body's own manifold and its exact
+// linearisation, the drift as the one-body rule (per body the 2-norms |Phi|,
+// |G v|, the largest over bodies). A one-body scene then integrates bit for
+// bit as the one-body ODE form (dae/single_body_ode.hpp; same steps, same
+// final state: tests/unit/test_body_ode.cpp) at its cost, where the KKT path
+// costs 3.3x the instructions on the heavy top (docs/benchmarks.md). The
+// right-hand sides of the two paths agree to round-off. A wider condition
+// would also be safe, free bodies under gravity alone (their translation
+// x'' = g decouples too), but it is not taken: a free body's rows are not
+// one representation's, and the KKT path serves it.
+//
 // observe() gives the DAE layout (q | v | lambda) with lambda of the KKT
-// solve at x, so MultibodyRecorder and the accuracy monitor read ODE runs
+// solve at x (per body, decoupled), so MultibodyRecorder and the accuracy monitor read ODE runs
 // unchanged (joint reactions from lambda). Events (Euler-angle charts, one
 // root function per body in Euler angles) and the torsion angles' branches
 // are MultibodyProblem's, with the multipliers padded by zeros.
@@ -52,6 +70,7 @@
 #include <Eigen/LU>
 
 #include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/schemes/body_ode.hpp"
 #include "rigidae/solver/ode_problem.hpp"
 
 namespace rigidae::multibody {
@@ -66,7 +85,10 @@ class MultibodyOde final : public OdeProblem {
   // sparse: KLU, else dense LU: a fixed-capacity one (small_lu.hpp) when
   // the KKT system has at most 48 unknowns and small_dense is set, else
   // Eigen's dynamic-size PartialPivLU (the general path; tests compare the two).
-  MultibodyOde(MultibodyProblem& problem, bool sparse, const std::string& where, bool small_dense = true);
+  // by_body: the per-body path when the bodies are decoupled (see above);
+  // false keeps the KKT path whatever the system (tests compare the two).
+  MultibodyOde(MultibodyProblem& problem, bool sparse, const std::string& where, bool small_dense = true,
+               bool by_body = true);
   ~MultibodyOde() override;
 
   int size() const override { return n_state_; }
@@ -89,8 +111,10 @@ class MultibodyOde final : public OdeProblem {
   void after_step(double t, const double* x) override;
   std::vector<EventNote> take_events() override { return problem_.take_events(); }
 
-  // The multipliers of the last rhs() (DAE order), for tests.
+  // The multipliers of the last rhs() (DAE order), for tests: the KKT path only.
   const Eigen::VectorXd& multipliers() const { return lambda_; }
+  // The per-body path runs (decoupled bodies and by_body).
+  bool by_body() const { return by_body_; }
   bool sparse() const { return klu_ != nullptr; }
   // The fixed-capacity dense LU runs the KKT solve.
   bool small_dense() const { return small_ != nullptr; }
@@ -106,6 +130,14 @@ class MultibodyOde final : public OdeProblem {
   bool factorise(double t, const double* x);
   // solution_ = K^-1 b with the last factorisation; false if not finite.
   bool solve(const Eigen::VectorXd& b);
+
+  // The per-body path: per body its one-body arithmetic, the offset of its
+  // (q, v) in x (contiguous for a pivoted body: nx = 0) and of its own
+  // block's multipliers in y (-1: none).
+  bool by_body_ = false;
+  mutable std::vector<schemes::BodyOde> body_ode_;  // mutable: drift() evaluates into its scratch
+  std::vector<int> body_offset_, body_lambda_offset_;
+  const Representation& body_rep(std::size_t i) const { return *problem_.bodies()[i].rep; }
 
   MultibodyProblem& problem_;
   int n_ = 0, n_state_ = 0, nv_ = 0, n_lambda_ = 0, ns_ = 0;

@@ -207,6 +207,14 @@ class MultibodyProblem final : public DaeProblem {
   const std::vector<UnknownGroup>& groups() const { return groups_; }
   const BlockScheme& scheme() const { return scheme_; }
   const MultibodySpec& spec() const { return spec_; }
+  // Whether the bodies move independently of one another, each as the
+  // one-body model about its pivot: no joint or driver blocks (only the
+  // bodies' own constraints), every body a pivoted rigid body (nx = 0, not a
+  // particle), and no force element acting on a pivoted body
+  // (ForceElement::acts_on_pivoted_bodies: gravity's torque is already in
+  // the rotation blocks). one_body_system(scene) is such a system. Then
+  // MultibodyOde integrates body by body (schemes/body_ode.hpp).
+  bool bodies_decoupled() const;
   // The start's rank analysis: redundant rows set aside, mobility.
   const RedundancyReport& redundancy() const { return redundancy_; }
   // What an assembled start ([mechanism] assemble / hold) did; done = false without one.

@@ -24,6 +24,7 @@ class Gravity final : public ForceElement {
     return V;
   }
   bool conservative() const override { return true; }
+  bool acts_on_pivoted_bodies() const override { return false; }  // x rows only
 };
 
 }  // namespace
