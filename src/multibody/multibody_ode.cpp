@@ -318,6 +318,12 @@ void MultibodyOde::after_step(double t, const double* x) {
   problem_.check_row_subset(t, y_drift_.data(), /*multipliers_in_y=*/false);
 }
 
+std::string MultibodyOde::describe_stall(double t, const double* x) {
+  y_big_.setZero(n_);
+  y_big_.head(n_state_) = Eigen::Map<const Eigen::VectorXd>(x, n_state_);
+  return problem_.describe_stall(t, y_big_.data());
+}
+
 long MultibodyOde::fresh_factorisations() const { return klu_ ? klu_->fresh_factorisations() : 0; }
 
 }  // namespace rigidae::multibody

@@ -110,6 +110,9 @@ class MultibodyOde final : public OdeProblem {
   StepAction on_event(double t, Eigen::VectorXd& x) override;
   void after_step(double t, const double* x) override;
   std::vector<EventNote> take_events() override { return problem_.take_events(); }
+  // The DAE's report at the state (x with zero multipliers): the formulation
+  // and the rank of the constraint rows there.
+  std::string describe_stall(double t, const double* x) override;
 
   // The multipliers of the last rhs() (DAE order), for tests: the KKT path only.
   const Eigen::VectorXd& multipliers() const { return lambda_; }
