@@ -130,11 +130,14 @@ class MultibodyOde final : public OdeProblem {
   bool factorise(double t, const double* x);
   // solution_ = K^-1 b with the last factorisation; false if not finite.
   bool solve(const Eigen::VectorXd& b);
+  // rhs() but for one decoupled body: kept out of line (see rhs()).
+  [[gnu::noinline]] bool rhs_general(double t, const double* x, double* xdot);
 
   // The per-body path: per body its one-body arithmetic, the offset of its
   // (q, v) in x (contiguous for a pivoted body: nx = 0) and of its own
   // block's multipliers in y (-1: none).
   bool by_body_ = false;
+  bool single_body_ = false;  // by_body_ with one body, its (q, v) first in x
   mutable std::vector<schemes::BodyOde> body_ode_;  // mutable: drift() evaluates into its scratch
   std::vector<int> body_offset_, body_lambda_offset_;
   const Representation& body_rep(std::size_t i) const { return *problem_.bodies()[i].rep; }
