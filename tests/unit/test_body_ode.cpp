@@ -10,6 +10,8 @@
 //   projection, its linearisation and the observed multipliers are
 //   SingleBodyOde's bit for bit, and the KKT path's rhs to round-off (an LU
 //   of the saddle-point matrix against the Schur complement of M);
+// - two decoupled bodies (in different coordinates) take each its own
+//   one-body system's rate, drift, multipliers and projection;
 // - the right-hand side allocates nothing; a system with a joint keeps the
 //   KKT path.
 #include <doctest/doctest.h>
@@ -206,6 +208,71 @@ TEST_CASE("body ODE: at random states the per-body rhs, drift, projection and mu
     }
   }
   CHECK(checked == 22 * 5);
+}
+
+TEST_CASE("body ODE: two decoupled bodies, each its own one-body system's rate, and the KKT path's to round-off") {
+  int checked = 0;
+  for (const char* coords : {"quaternion", "linear"})
+    for (const Equations e : {Equations::Lagrange, Equations::Euler}) {
+      CAPTURE(std::string(coords) + (e == Equations::Euler ? "/euler" : "/lagrange"));
+      const Scene s = scene_for("heavy_top.toml", coords, e, "projection", 0.1);
+      // The top, and a second top in the other constrained coordinates spinning at half the rate.
+      Scene pair = one_body_system(s);
+      BodySpec second = pair.multibody->bodies[0];
+      second.name = "second";
+      second.omega0_B *= 0.5;
+      second.coordinates = Coordinates(std::string(coords) == "quaternion" ? "linear" : "quaternion");
+      pair.multibody->bodies.push_back(second);
+      Scene alone = pair;
+      alone.multibody->bodies.erase(alone.multibody->bodies.begin());
+      multibody::MultibodyProblem both(pair), first(one_body_system(s)), other(alone);
+      REQUIRE(both.bodies_decoupled());
+      multibody::MultibodyOde by_body(both, false, s.source), kkt(both, false, s.source, true, false);
+      multibody::MultibodyOde ode1(first, false, s.source), ode2(other, false, s.source);
+      REQUIRE(by_body.by_body());
+      REQUIRE_FALSE(kkt.by_body());
+      const int n = by_body.size(), n1 = ode1.size(), n2 = ode2.size();
+      REQUIRE(n == n1 + n2);
+      Eigen::VectorXd x;
+      by_body.initial_state(0.0, x);
+      std::mt19937 rng(5);
+      for (int trial = 0; trial < 3; ++trial) {
+        Eigen::VectorXd xp = x, unused = x;
+        test::perturb_state(rng, xp, unused);
+        Eigen::VectorXd f(n), g(n), f1(n1), f2(n2);
+        REQUIRE(by_body.rhs(0.2, xp.data(), f.data()));
+        REQUIRE(kkt.rhs(0.2, xp.data(), g.data()));
+        REQUIRE(ode1.rhs(0.2, xp.data(), f1.data()));
+        REQUIRE(ode2.rhs(0.2, xp.data() + n1, f2.data()));
+        CHECK(differing(f.data(), f1.data(), n1) == 0);
+        CHECK(differing(f.data() + n1, f2.data(), n2) == 0);
+        CHECK((g - f).cwiseAbs().maxCoeff() <= 1e-10 * std::max(1.0, f.cwiseAbs().maxCoeff()));
+        const OdeDrift d = by_body.drift(0.2, xp.data()), d1 = ode1.drift(0.2, xp.data()),
+                       d2 = ode2.drift(0.2, xp.data() + n1);
+        CHECK(d.position == std::max(d1.position, d2.position));
+        CHECK(d.velocity == std::max(d1.velocity, d2.velocity));
+        // The observation: each body's multipliers where the layout puts its block's.
+        Eigen::VectorXd y, y1, y2, yk;
+        by_body.observe(0.2, xp.data(), y);
+        ode1.observe(0.2, xp.data(), y1);
+        ode2.observe(0.2, xp.data() + n1, y2);
+        kkt.observe(0.2, xp.data(), yk);
+        REQUIRE(y.size() == y1.size() + y2.size());
+        CHECK(differing(y.data(), y1.data(), n1) == 0);
+        CHECK(differing(y.data() + n1, y2.data(), n2) == 0);
+        CHECK(differing(y.data() + n, y1.data() + n1, static_cast<int>(y1.size()) - n1) == 0);
+        CHECK(differing(y.data() + n + y1.size() - n1, y2.data() + n2, static_cast<int>(y2.size()) - n2) == 0);
+        CHECK((yk - y).cwiseAbs().maxCoeff() <= 1e-9 * std::max(1.0, y.cwiseAbs().maxCoeff()));
+        Eigen::VectorXd p = xp, p1 = xp.head(n1), p2 = xp.tail(n2);
+        by_body.project(0.2, p.data());
+        ode1.project(0.2, p1.data());
+        ode2.project(0.2, p2.data());
+        CHECK(differing(p.data(), p1.data(), n1) == 0);
+        CHECK(differing(p.data() + n1, p2.data(), n2) == 0);
+        ++checked;
+      }
+    }
+  CHECK(checked == 12);
 }
 
 TEST_CASE("body ODE: the per-body rhs allocates nothing, and a system with a joint keeps the KKT path") {
