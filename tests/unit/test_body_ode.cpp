@@ -5,7 +5,9 @@
 //   cvode-adams and arkode-erk takes the same steps and ends in the same
 //   state, bit for bit, for every coordinates x equations x {index1,
 //   projection} on the heavy top and the free asymmetric body (and a start
-//   in the wrong Euler chart: sleeping_top), with the same chart switches;
+//   in the wrong Euler chart: sleeping_top; a lamina, whose mass matrix is
+//   singular in linear coordinates' Lagrange form), with the same chart
+//   switches;
 // - at random states off the manifold the right-hand side, drift,
 //   projection, its linearisation and the observed multipliers are
 //   SingleBodyOde's bit for bit, and the KKT path's rhs to round-off (an LU
@@ -52,7 +54,11 @@ class Sink final : public StepSink {
 
 Scene scene_for(const std::string& file, const std::string& coords, Equations e, const std::string& scheme,
                 double t_end) {
-  Scene s = io::load_scene(std::string(RIGIDAE_SOURCE_DIR) + "/problems/" + file);
+  // "lamina": the free body with moments (1, 2, 3), J3 = J1 + J2: in linear
+  // coordinates' Lagrange form its mass matrix is singular (the saddle-point solve).
+  const bool lamina = file == "lamina";
+  Scene s = io::load_scene(std::string(RIGIDAE_SOURCE_DIR) + "/problems/" + (lamina ? "free_body.toml" : file));
+  if (lamina) s.body.inertia_com = Vec3(1.0, 2.0, 3.0).asDiagonal();
   s.formulation.coordinates = Coordinates(coords);
   s.formulation.equations = e;
   s.formulation.scheme = scheme;
@@ -91,6 +97,7 @@ std::vector<Combination> combinations() {
         }
   for (const Equations e : {Equations::Lagrange, Equations::Euler})
     out.push_back({"sleeping_top.toml", "euler", e, "index1", 0.3});
+  for (const char* scheme : {"index1", "projection"}) out.push_back({"lamina", "linear", Equations::Lagrange, scheme, 2.0});
   return out;
 }
 
@@ -143,7 +150,7 @@ TEST_CASE("body ODE: a one-body scene through MultibodyOde takes SingleBodyOde's
       projections += a.counters.projections;
       ++runs;
     }
-  CHECK(runs == 22 * 3);
+  CHECK(runs == 24 * 3);
   // What is compared is not vacuous: sleeping_top's chart switch at the
   // start (2 forms x 3 integrators), switches during the heavy top's and
   // the free body's Euler-angle runs (measured: 23), projections (measured:
@@ -207,7 +214,7 @@ TEST_CASE("body ODE: at random states the per-body rhs, drift, projection and mu
       ++checked;
     }
   }
-  CHECK(checked == 22 * 5);
+  CHECK(checked == 24 * 5);
 }
 
 TEST_CASE("body ODE: two decoupled bodies, each its own one-body system's rate, and the KKT path's to round-off") {
