@@ -205,8 +205,8 @@ bool MultibodyOde::rhs(double t, const double* x, double* xdot) {
   // One decoupled body (a one-body scene) as a bare tail call to the
   // one-body arithmetic; everything else out of line, so that this path
   // pays no register saves (measured on the heavy top, quaternion/euler on
-  // ARKODE: 16.61 M instructions in one function with the loop, 16.02 M so; the one-body
-  // form 15.85 M; bench/callgrind_through_system.sh).
+  // ARKODE: 16.61 M instructions with the loop in this function, 16.02 M
+  // so; the one-body form 15.85 M; bench/callgrind_through_system.sh).
   if (single_body_) return body_ode_[0].rate(*problem_.bodies()[0].rep, t, x, xdot);
   return rhs_general(t, x, xdot);
 }

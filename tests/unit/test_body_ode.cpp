@@ -97,7 +97,8 @@ std::vector<Combination> combinations() {
         }
   for (const Equations e : {Equations::Lagrange, Equations::Euler})
     out.push_back({"sleeping_top.toml", "euler", e, "index1", 0.3});
-  for (const char* scheme : {"index1", "projection"}) out.push_back({"lamina", "linear", Equations::Lagrange, scheme, 2.0});
+  for (const char* scheme : {"index1", "projection"})
+    out.push_back({"lamina", "linear", Equations::Lagrange, scheme, 2.0});
   return out;
 }
 
@@ -117,7 +118,8 @@ TEST_CASE("body ODE: a one-body scene through MultibodyOde takes SingleBodyOde's
       CAPTURE(what);
       Scene s = scene_for(c.file, c.coords, c.equations, c.scheme, c.t_end);
       // Heavy top in Euler angles: long enough to leave its start chart.
-      if (std::string(c.file) == "heavy_top.toml" && std::string(c.coords) == "euler") s.time.end = s.time.output_step = 1.0;
+      if (std::string(c.file) == "heavy_top.toml" && std::string(c.coords) == "euler")
+        s.time.end = s.time.output_step = 1.0;
       const std::unique_ptr<DaeSystem> dae = assemble_dae(s);
       const ProjectionPolicy p = dae->scheme().projection();
       const OdeMethod method{integrator, "fehlberg78", {p.enabled, p.every_step, p.threshold}};
@@ -160,7 +162,8 @@ TEST_CASE("body ODE: a one-body scene through MultibodyOde takes SingleBodyOde's
   CHECK(projections >= 100);
 }
 
-TEST_CASE("body ODE: at random states the per-body rhs, drift, projection and multipliers are SingleBodyOde's, and the KKT path's to round-off") {
+TEST_CASE("body ODE: at random states the per-body rhs, drift, projection and multipliers are SingleBodyOde's, "
+          "and the KKT path's rhs to round-off") {
   int checked = 0;
   for (const Combination& c : combinations()) {
     CAPTURE(label(c));
