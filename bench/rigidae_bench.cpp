@@ -247,8 +247,10 @@ RunSample run_through_system(const Scene& s, bool by_body) {
   try {
     if (ode_form)
       r.run = integrate_ode(*ode, s.solver, s.time,
-                            {s.solver.integrator, s.solver.erk_method,
-                             {problem.scheme().projection, s.formulation.projection.every_step, projection_threshold(s)}},
+                            {s.solver.integrator,
+                             s.solver.erk_method,
+                             {problem.scheme().projection, s.formulation.projection.every_step,
+                              projection_threshold(s)}},
                             sink);
     else
       r.run = integrate(problem, s.solver, s.time, sink);
@@ -257,7 +259,8 @@ RunSample run_through_system(const Scene& s, bool by_body) {
     r.run.message = e.what();
   }
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (r.run.status == RunStatus::Success && sink.y_last.size() > 0) r.q_end = problem.body_orientation(0, sink.y_last.data());
+  if (r.run.status == RunStatus::Success && sink.y_last.size() > 0)
+    r.q_end = problem.body_orientation(0, sink.y_last.data());
   return r;
 }
 

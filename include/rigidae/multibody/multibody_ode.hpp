@@ -51,18 +51,20 @@
 // linearisation, the drift as the one-body rule (per body the 2-norms |Phi|,
 // |G v|, the largest over bodies). A one-body scene then integrates bit for
 // bit as the one-body ODE form (dae/single_body_ode.hpp; same steps, same
-// final state: tests/unit/test_body_ode.cpp) at its cost, where the KKT path
-// costs 3.3x the instructions on the heavy top (docs/benchmarks.md). The
-// right-hand sides of the two paths agree to round-off. A wider condition
-// would also be safe, free bodies under gravity alone (their translation
-// x'' = g decouples too), but it is not taken: a free body's rows are not
-// one representation's, and the KKT path serves it.
+// final state: tests/unit/test_body_ode.cpp) at its cost (1.00x to 1.02x
+// its instructions on the heavy top, where the KKT path costs up to 3.2x:
+// docs/benchmarks.md). The right-hand sides of the two paths agree to
+// round-off; their drift rules differ (the KKT path's max norms: drift()).
+// A wider condition would also be safe, free bodies under gravity alone
+// (their translation x'' = g decouples too), but it is not taken: a free
+// body's rows are not one representation's, and the KKT path serves it.
 //
 // observe() gives the DAE layout (q | v | lambda) with lambda of the KKT
-// solve at x (per body, decoupled), so MultibodyRecorder and the accuracy monitor read ODE runs
-// unchanged (joint reactions from lambda). Events (Euler-angle charts, one
-// root function per body in Euler angles) and the torsion angles' branches
-// are MultibodyProblem's, with the multipliers padded by zeros.
+// solve at x (per body when decoupled), so MultibodyRecorder and the
+// accuracy monitor read ODE runs unchanged (joint reactions from lambda).
+// Events (Euler-angle charts, one root function per body in Euler angles)
+// and the torsion angles' branches are MultibodyProblem's, with the
+// multipliers padded by zeros, on both paths.
 #include <memory>
 #include <vector>
 
@@ -133,11 +135,14 @@ class MultibodyOde final : public OdeProblem {
   bool factorise(double t, const double* x);
   // solution_ = K^-1 b with the last factorisation; false if not finite.
   bool solve(const Eigen::VectorXd& b);
+  // rhs() but for one decoupled body: kept out of line (see rhs()).
+  [[gnu::noinline]] bool rhs_general(double t, const double* x, double* xdot);
 
   // The per-body path: per body its one-body arithmetic, the offset of its
   // (q, v) in x (contiguous for a pivoted body: nx = 0) and of its own
   // block's multipliers in y (-1: none).
   bool by_body_ = false;
+  bool single_body_ = false;  // by_body_ with one body, its (q, v) first in x
   mutable std::vector<schemes::BodyOde> body_ode_;  // mutable: drift() evaluates into its scratch
   std::vector<int> body_offset_, body_lambda_offset_;
   const Representation& body_rep(std::size_t i) const { return *problem_.bodies()[i].rep; }
