@@ -102,7 +102,14 @@ nlohmann::json accuracy_check_json(const SolveOutcome& o) {
           {"vertical_angular_momentum", number_or_null(d.vertical_angular_momentum)},
           {"constraint_position", number_or_null(d.constraint_position)},
           {"constraint_velocity", number_or_null(d.constraint_velocity)},
+          {"steps", o.extremes.steps_recorded},
           {"definitions", "maxima over the steps; see include/rigidae/app/accuracy_check.hpp"}};
+}
+
+// The energy at the start (kinetic plus potential about the reference point).
+double initial_energy(const Scene& scene) {
+  const RigidBodyModel b = make_rigid_body_model(scene);
+  return b.kinetic_energy(scene.omega0_B) + b.potential_energy(scene.R0_WB);
 }
 
 nlohmann::json summary(const Scene& scene, const SolveOutcome& o) {
@@ -137,6 +144,7 @@ nlohmann::json summary(const Scene& scene, const SolveOutcome& o) {
         {"drift_velocity", f.drift.velocity},
         {"energy", f.energy},
         {"energy_rel_error", f.energy_error},
+        {"initial_energy", initial_energy(scene)},
         {"vertical_momentum", f.vertical_momentum},
         {"vertical_momentum_rel_error", f.vertical_momentum_error}}},
       {"final_row", final_row_json(f, o.multiplier_names)},
@@ -203,6 +211,7 @@ SolveOutcome solve_with(const Scene& scene, const std::function<RunSink(const On
   o.scheme = scheme->name();
   o.note = scheme->note(view.representation());
   o.multiplier_names = view.multiplier_names();
+  o.unknowns = system.size();
   o.scheme_parameters = scheme->parameters();
   o.multipliers_error =
       multiplier_error_control(scene.solver.integrator, system.suppress_algebraic_error_test(), o.scheme);

@@ -83,6 +83,7 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
   o.out_dir = out_dir;
   o.representation = to_string(scene.formulation.coordinates) + "/" + to_string(scene.formulation.equations);
   o.scheme = problem.scheme().name;
+  o.unknowns = problem.size();
   o.note = fmt::format("{} bodies, {} joints, {} unknowns", problem.bodies().size(), scene.multibody->joints.size(),
                        problem.size());
   o.multipliers_error =
@@ -146,7 +147,6 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
         {"time", {{"start", scene.time.start}, {"end", scene.time.end}, {"output_step", scene.time.output_step}}}}},
       {"bodies", problem.bodies().size()},
       {"joints", scene.multibody->joints.size()},
-      {"unknowns", problem.size()},
       {"nonzeros", problem.sparsity().nnz()},
       {"start_warnings", problem.warnings()},
       {"recorded_parts", recorded_parts_json(problem, recorder)},

@@ -32,6 +32,7 @@ inline nlohmann::json common_summary_json(const Scene& scene, const SolveOutcome
       {"equations", to_string(scene.formulation.equations)},
       {"scheme", o.scheme},
       {"note", o.note},
+      {"unknowns", o.unknowns},
       {"integrator", scene.solver.integrator},
       {"rtol", scene.solver.rtol},
       {"atol", scene.solver.atol},

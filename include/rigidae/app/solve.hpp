@@ -22,6 +22,7 @@ struct SolveOutcome {
   double wall_seconds = 0.0;  // integration and recording, not setup
   std::filesystem::path out_dir;
   std::string representation, scheme, note;
+  int unknowns = 0;  // of the system IDA integrates (the DAE's y)
   std::vector<std::string> multiplier_names;
   InvariantDrifts drifts;                 // the accuracy check's measures (app/accuracy_check.hpp)
   std::vector<AccuracyWarning> warnings;  // those past their limits
