@@ -321,6 +321,9 @@ StepAction MultibodyOde::on_event(double t, Eigen::VectorXd& x) {
 }
 
 void MultibodyOde::after_step(double t, const double* x) {
+  // Decoupled bodies have no joints (no row subsets, no joint coordinates'
+  // branches) and no force element acting on them: nothing follows the motion.
+  if (by_body_) return;
   y_drift_.head(n_state_) = Eigen::Map<const Eigen::VectorXd>(x, n_state_);
   y_drift_.tail(n_ - n_state_).setZero();
   problem_.follow_motion(t, y_drift_.data());
