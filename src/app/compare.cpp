@@ -1,5 +1,7 @@
 #include "rigidae/app/compare.hpp"
 
+#include "rigidae/model/one_body_system.hpp"
+
 #include <fmt/format.h>
 #include <fnmatch.h>
 
@@ -117,13 +119,19 @@ std::vector<Combination> all_combinations() {
 
 std::vector<Combination> combinations_for(const Scene& scene, const std::vector<IntegratorChoice>& integrators,
                                           const std::string& where) {
+  // Only runs that can differ, read off the system the scene is (as_system):
+  // the coordinates and the form matter only when some body has rotation
+  // coordinates (a system of particles runs the same bit for bit in all of
+  // them: the scene's own are run); the scheme matters only when the system
+  // has constraint rows in those coordinates: a joint, a driver, or a body's
+  // own (|q| = 1, R^T R = I). Without any (Euler angles on bodies that
+  // nothing joins) every scheme is the same ODE: one run, scheme "any".
+  const Scene system = as_system(scene);
+  const MultibodySpec& spec = *system.multibody;
+  const bool rotation_free = !spec.bodies.empty() && std::all_of(spec.bodies.begin(), spec.bodies.end(),
+                                                                 [](const BodySpec& b) { return b.particle; });
+  const bool joined = !spec.joints.empty() || !spec.drivers.empty();
   std::vector<Combination> all;
-  // A mechanism of particles alone has no rotation coordinates: its runs do
-  // not depend on the coordinates or the form (bit for bit), so only the
-  // scene's own are run, once per scheme and integrator.
-  const bool rotation_free =
-      scene.multibody && !scene.multibody->bodies.empty() &&
-      std::all_of(scene.multibody->bodies.begin(), scene.multibody->bodies.end(), [](const BodySpec& b) { return b.particle; });
   for (const IntegratorChoice& ic : integrators) {
     const IntegratorInfo& info = find_integrator(ic.integrator, where);
     auto runs = [&](const std::string& scheme) {
@@ -132,7 +140,7 @@ std::vector<Combination> combinations_for(const Scene& scene, const std::vector<
     for (const Coordinates& c : all_coordinates())
       for (Equations e : {Equations::Lagrange, Equations::Euler}) {
         if (rotation_free && (c != scene.formulation.coordinates || e != scene.formulation.equations)) continue;
-        if (!has_constraints(c) && !scene.multibody) {
+        if (!joined && (rotation_free || !has_constraints(c))) {
           all.push_back({c, e, kAnyScheme, ic.integrator, ic.erk_method});
           continue;
         }
@@ -185,11 +193,9 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
     if (in && !out) selected.push_back(c);
   }
   if (selected.empty())
-    throw InputError(scene.multibody
-                         ? "--only/--skip leave no combination to run; a multibody scene runs every coordinates x "
-                           "equations x scheme on ida and index1, projection on the ODE integrators (see rigidae "
-                           "compare --help)"
-                         : "--only/--skip leave no combination to run; see rigidae compare --help");
+    throw InputError(
+        "--only/--skip leave no combination to run; a scene runs every coordinates x equations x scheme on ida and "
+        "index1, projection on the ODE integrators, less those that are the same run (see rigidae compare --help)");
 
   CompareReport report;
   report.scene_name = scene.name;
