@@ -7,15 +7,20 @@
 #include <algorithm>
 
 #include "rigidae/core/error.hpp"
+#include "ode_stepper.hpp"
+#include "steppers.hpp"
 
 namespace rigidae {
 
 const std::vector<IntegratorInfo>& integrators() {
   static const std::vector<IntegratorInfo> table = {
-      {"ida", "SUNDIALS IDA, BDF orders 1-5 on the DAE", false, {}},
-      {"cvode-adams", "SUNDIALS CVODE, Adams-Moulton orders 1-12 on the ODE form", true, {"index1", "projection"}},
-      {"cvode-bdf", "SUNDIALS CVODE, BDF orders 1-5 on the ODE form", true, {"index1", "projection"}},
-      {"arkode-erk", "SUNDIALS ARKODE, explicit Runge-Kutta on the ODE form", true, {"index1", "projection"}},
+      {"ida", "SUNDIALS IDA, BDF orders 1-5 on the DAE", false, {}, nullptr},
+      {"cvode-adams", "SUNDIALS CVODE, Adams-Moulton orders 1-12 on the ODE form", true, {"index1", "projection"},
+       ode::make_cvode_adams},
+      {"cvode-bdf", "SUNDIALS CVODE, BDF orders 1-5 on the ODE form", true, {"index1", "projection"},
+       ode::make_cvode_bdf},
+      {"arkode-erk", "SUNDIALS ARKODE, explicit Runge-Kutta on the ODE form", true, {"index1", "projection"},
+       ode::make_arkode_erk},
   };
   return table;
 }

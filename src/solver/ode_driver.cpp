@@ -4,14 +4,8 @@
 // handle a root (chart switch: restart), record the step, project.
 #include "rigidae/solver/ode_driver.hpp"
 
-#include <arkode/arkode_erkstep.h>
-#include <cvode/cvode.h>
-#include <cvode/cvode_ls.h>
-#include <cvode/cvode_proj.h>
 #include <fmt/format.h>
 #include <sundials/sundials_context.h>
-#include <sunmatrix/sunmatrix_dense.h>
-#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
 #include <algorithm>
 #include <chrono>
@@ -20,7 +14,7 @@
 #include <exception>
 #include <memory>
 
-#include "dense_lu_solver.hpp"
+#include "ode_stepper.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/solver/integrators.hpp"
 #include "serial_vector.hpp"
@@ -28,20 +22,7 @@
 
 namespace rigidae {
 
-namespace {
-
-struct CallbackData {
-  OdeProblem* problem = nullptr;
-  OdeProjection projection;
-  std::exception_ptr error;  // never thrown through C; rethrown by the driver
-  Eigen::VectorXd scratch;
-  // Set by a projection inside the integrator (CVODE-BDF, ARKODE) during
-  // the step just taken; the loop records it once the step is accepted.
-  bool projected = false;
-  OdeDrift drift_before;
-};
-
-CallbackData& cb(void* user_data) { return *static_cast<CallbackData*>(user_data); }
+namespace ode {
 
 int rhs_callback(realtype t, N_Vector x, N_Vector xdot, void* user_data) {
   CallbackData& d = cb(user_data);
@@ -66,273 +47,13 @@ int root_callback(realtype t, N_Vector x, realtype* g, void* user_data) {
   }
 }
 
-bool needs_projection(const CallbackData& d, const OdeDrift& drift) {
-  return d.projection.every_step || drift.position > d.projection.threshold ||
-         drift.velocity > d.projection.threshold;
-}
+}  // namespace ode
 
-// CVODE-BDF: corr = P(x) - x, and the error estimate onto the tangent space.
-int cvode_projection_callback(realtype t, N_Vector ycur, N_Vector corr, realtype /*eps*/, N_Vector err,
-                              void* user_data) {
-  CallbackData& d = cb(user_data);
-  try {
-    const double* x = N_VGetArrayPointer(ycur);
-    const int n = d.problem->size();
-    const OdeDrift drift = d.problem->drift(t, x);
-    double* c = N_VGetArrayPointer(corr);
-    if (!needs_projection(d, drift)) {
-      for (int i = 0; i < n; ++i) c[i] = 0.0;
-      return 0;
-    }
-    d.scratch = Eigen::Map<const Eigen::VectorXd>(x, n);
-    d.problem->project(t, d.scratch.data());
-    for (int i = 0; i < n; ++i) c[i] = d.scratch[i] - x[i];
-    if (err) d.problem->project_error(t, d.scratch.data(), N_VGetArrayPointer(err));
-    d.projected = true;
-    d.drift_before = drift;
-    return 0;
-  } catch (...) {
-    d.error = std::current_exception();
-    return -1;
-  }
-}
+namespace {
 
-// ARKODE: after each accepted step, in place (installed for every ERK run: see configure()).
-int arkode_postprocess_callback(realtype t, N_Vector y, void* user_data) {
-  CallbackData& d = cb(user_data);
-  try {
-    if (!d.projection.enabled) return 0;
-    double* x = N_VGetArrayPointer(y);
-    const OdeDrift drift = d.problem->drift(t, x);
-    if (!needs_projection(d, drift)) return 0;
-    d.problem->project(t, x);
-    d.projected = true;
-    d.drift_before = drift;
-    return 0;
-  } catch (...) {
-    d.error = std::current_exception();
-    return -1;
-  }
-}
-
-// SUNDIALS' flag names are malloc'ed; freed here.
-std::string take_name(char* name, int flag) {
-  std::string s = name ? name : fmt::format("flag {}", flag);
-  std::free(name);
-  return s;
-}
-
-// The integrator behind the loop.
-class Stepper {
- public:
-  virtual ~Stepper() = default;
-  // One internal step towards t_end: the SUNDIALS flag (< 0 failure).
-  virtual int step(double t_end, N_Vector x, double& t) = 0;
-  virtual bool root_found(int flag) const = 0;
-  virtual std::string flag_name(int flag) const = 0;
-  virtual int dky(double t, N_Vector out) = 0;
-  virtual double last_step() = 0;
-  virtual int last_order() = 0;
-  virtual double current_time() = 0;
-  virtual void reinit(double t, N_Vector x) = 0;
-  virtual void add_counters(IdaCounters& c) = 0;
-};
-
-void check(int flag, const char* what) {
-  if (flag < 0) throw SolverError(fmt::format("{} failed: flag {}", what, flag));
-}
-
-// The functions of CVODE and of ARKODE's ERKStep that differ only in their
-// prefix (SUNDIALS 6.4: the same arguments, the same flags), with the names
-// that errors report; for SundialsStepper.
-#define RIGIDAE_SHARED_CALLS(PREFIX)                                   \
-  static constexpr auto tolerances = &PREFIX##SVtolerances;            \
-  static constexpr auto user_data = &PREFIX##SetUserData;              \
-  static constexpr auto stop_time = &PREFIX##SetStopTime;              \
-  static constexpr auto root_init = &PREFIX##RootInit;                 \
-  static constexpr const char* kTolerances = #PREFIX "SVtolerances";   \
-  static constexpr const char* kUserData = #PREFIX "SetUserData";      \
-  static constexpr const char* kStopTime = #PREFIX "SetStopTime";      \
-  static constexpr const char* kRootInit = #PREFIX "RootInit";         \
-  static constexpr auto flag_name = &PREFIX##GetReturnFlagName;        \
-  static constexpr auto dky = &PREFIX##GetDky;                         \
-  static constexpr auto last_step = &PREFIX##GetLastStep;              \
-  static constexpr auto current_time = &PREFIX##GetCurrentTime;        \
-  static constexpr auto num_steps = &PREFIX##GetNumSteps;              \
-  static constexpr auto num_rhs_evals = &PREFIX##GetNumRhsEvals;       \
-  static constexpr auto num_error_test_fails = &PREFIX##GetNumErrTestFails; \
-  static constexpr auto num_root_evals = &PREFIX##GetNumGEvals;
-
-struct CvodeCalls {
-  RIGIDAE_SHARED_CALLS(CVode)
-  static int one_step(void* mem, double t_end, N_Vector x, double& t) { return CVode(mem, t_end, x, &t, CV_ONE_STEP); }
-  static constexpr int kRootReturn = CV_ROOT_RETURN;
-};
-
-struct ErkStepCalls {
-  RIGIDAE_SHARED_CALLS(ERKStep)
-  static int one_step(void* mem, double t_end, N_Vector x, double& t) {
-    return ERKStepEvolve(mem, t_end, x, &t, ARK_ONE_STEP);
-  }
-  static constexpr int kRootReturn = ARK_ROOT_RETURN;
-};
-
-#undef RIGIDAE_SHARED_CALLS
-
-// What CVODE and ERKStep do alike, once: the shared settings, the step, the
-// interpolant, the step size and time, the shared counters. `Calls` names the
-// integrator's functions (compile-time constants: direct calls).
-template <typename Calls>
-class SundialsStepper : public Stepper {
- public:
-  int step(double t_end, N_Vector x, double& t) override { return Calls::one_step(mem_, t_end, x, t); }
-  bool root_found(int flag) const override { return flag == Calls::kRootReturn; }
-  std::string flag_name(int flag) const override { return take_name(Calls::flag_name(flag), flag); }
-  int dky(double t, N_Vector out) override { return Calls::dky(mem_, t, 0, out); }
-  double last_step() override {
-    double h = 0.0;
-    Calls::last_step(mem_, &h);
-    return h;
-  }
-  double current_time() override {
-    double t = 0.0;
-    Calls::current_time(mem_, &t);
-    return t;
-  }
-
- protected:
-  // The tolerances, the callbacks' data and the stop time.
-  void set_common(N_Vector atol, const SolverSettings& opt, const TimeGrid& span, CallbackData& data) {
-    check(Calls::tolerances(mem_, opt.rtol, atol), Calls::kTolerances);
-    check(Calls::user_data(mem_, &data), Calls::kUserData);
-    check(Calls::stop_time(mem_, span.end), Calls::kStopTime);
-  }
-  // The event functions (chart switches), when there are any.
-  void set_roots(int n_events) {
-    has_roots_ = n_events > 0;
-    if (has_roots_) check(Calls::root_init(mem_, n_events, root_callback), Calls::kRootInit);
-  }
-  void add_common_counters(IdaCounters& c) {
-    long v = 0;
-    Calls::num_steps(mem_, &v), c.steps += v;
-    Calls::num_rhs_evals(mem_, &v), c.residual_evals += v;
-    Calls::num_error_test_fails(mem_, &v), c.error_test_fails += v;
-    if (has_roots_) Calls::num_root_evals(mem_, &v), c.root_evals += v;
-  }
-
-  void* mem_ = nullptr;
-  bool has_roots_ = false;
-};
-
-class CvodeStepper final : public SundialsStepper<CvodeCalls> {
- public:
-  CvodeStepper(bool bdf, SUNContext ctx, N_Vector x0, N_Vector atol, const SolverSettings& opt, const TimeGrid& span,
-               CallbackData& data, int n_events)
-      : bdf_(bdf) {
-    try {
-      create(ctx, x0, atol, opt, span, data, n_events);
-    } catch (...) {
-      release();
-      throw;
-    }
-  }
-  ~CvodeStepper() override { release(); }
-  void create(SUNContext ctx, N_Vector x0, N_Vector atol, const SolverSettings& opt, const TimeGrid& span,
-              CallbackData& data, int n_events) {
-    const double t0 = span.start;
-    const bool bdf = bdf_;
-    mem_ = CVodeCreate(bdf ? CV_BDF : CV_ADAMS, ctx);
-    if (!mem_) throw SolverError("CVodeCreate failed");
-    check(CVodeInit(mem_, rhs_callback, t0, x0), "CVodeInit");
-    set_common(atol, opt, span, data);
-    const int n = static_cast<int>(N_VGetLength(x0));
-    if (bdf) {
-      // Newton with CVODE's difference-quotient Jacobian and rigidae's LU.
-      A_ = SUNDenseMatrix(n, n, ctx);
-      LS_ = A_ ? sun::new_dense_lu_solver(x0, A_, ctx) : nullptr;
-      if (!LS_) throw SolverError("out of memory creating CVODE's linear solver");
-      check(CVodeSetLinearSolver(mem_, LS_, A_), "CVodeSetLinearSolver");
-      check(CVodeSetMaxOrd(mem_, std::min(5, opt.max_order)), "CVodeSetMaxOrd");
-      if (data.projection.enabled) {
-        check(CVodeSetProjFn(mem_, cvode_projection_callback), "CVodeSetProjFn");
-        check(CVodeSetProjErrEst(mem_, SUNTRUE), "CVodeSetProjErrEst");
-      }
-    } else {
-      // Adams on a non-stiff ODE: fixed-point iteration, no Jacobian.
-      NLS_ = SUNNonlinSol_FixedPoint(x0, 0, ctx);
-      if (!NLS_) throw SolverError("out of memory creating CVODE's fixed-point solver");
-      check(CVodeSetNonlinearSolver(mem_, NLS_), "CVodeSetNonlinearSolver");
-      check(CVodeSetMaxOrd(mem_, 12), "CVodeSetMaxOrd");
-    }
-    set_roots(n_events);
-  }
-  void release() {
-    if (mem_) CVodeFree(&mem_);
-    if (LS_) SUNLinSolFree(LS_);
-    if (A_) SUNMatDestroy(A_);
-    if (NLS_) SUNNonlinSolFree(NLS_);
-  }
-  int last_order() override {
-    int q = 0;
-    CVodeGetLastOrder(mem_, &q);
-    return q;
-  }
-  void reinit(double t, N_Vector x) override { check(CVodeReInit(mem_, t, x), "CVodeReInit"); }
-  void add_counters(IdaCounters& c) override {
-    add_common_counters(c);
-    long v = 0;
-    CVodeGetNumNonlinSolvIters(mem_, &v), c.nonlinear_iters += v;
-    CVodeGetNumNonlinSolvConvFails(mem_, &v), c.nonlinear_conv_fails += v;
-    if (bdf_) {
-      CVodeGetNumJacEvals(mem_, &v), c.jacobian_evals += v;
-      CVodeGetNumLinRhsEvals(mem_, &v), c.jacobian_residual_evals += v;
-      CVodeGetNumLinSolvSetups(mem_, &v), c.linear_setups += v;
-    }
-  }
-
- private:
-  bool bdf_;
-  SUNMatrix A_ = nullptr;
-  SUNLinearSolver LS_ = nullptr;
-  SUNNonlinearSolver NLS_ = nullptr;
-};
-
-class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
- public:
-  ArkodeStepper(const ErkMethodInfo& method, SUNContext ctx, N_Vector x0, N_Vector atol, const SolverSettings& opt,
-                const TimeGrid& span, CallbackData& data, int n_events)
-      : order_(method.order) {
-    mem_ = ERKStepCreate(rhs_callback, span.start, x0, ctx);
-    if (!mem_) throw SolverError("ERKStepCreate failed");
-    try {
-      configure(method, atol, opt, span, data, n_events);
-    } catch (...) {
-      ERKStepFree(&mem_);
-      throw;
-    }
-  }
-  void configure(const ErkMethodInfo& method, N_Vector atol, const SolverSettings& opt, const TimeGrid& span,
-                 CallbackData& data, int n_events) {
-    set_common(atol, opt, span, data);
-    check(ERKStepSetTableName(mem_, method.arkode_name.c_str()), "ERKStepSetTableName");
-    // Installed also without a projection (then a no-op): with a step
-    // postprocess ARKODE 6.4 evaluates f afresh at each step's start instead
-    // of reusing the last one, and its error estimates and step sizes are
-    // then those of the projected runs. Without it the plain ODE (index1)
-    // took 1.7-2.3x the steps on the heavy top (1,085 / 2,146 / 2,562 steps at
-    // rtol 1e-7 / 1e-8 / 1e-9 against 732 / 944 / 1,140; docs/benchmarks.md,
-    // issue 23), for one more evaluation per step.
-    check(ERKStepSetPostprocessStepFn(mem_, arkode_postprocess_callback), "ERKStepSetPostprocessStepFn");
-    set_roots(n_events);
-  }
-  ~ArkodeStepper() override { ERKStepFree(&mem_); }
-  int last_order() override { return order_; }
-  void reinit(double t, N_Vector x) override { check(ERKStepReInit(mem_, rhs_callback, t, x), "ERKStepReInit"); }
-  void add_counters(IdaCounters& c) override { add_common_counters(c); }
-
- private:
-  int order_;
-};
+using ode::CallbackData;
+using ode::cb;
+using ode::check;
 
 struct Vectors {
   SUNContext ctx = nullptr;
@@ -405,14 +126,8 @@ RunResult integrate_ode(OdeProblem& problem, const SolverSettings& opt, const Ti
     result.initial_residual = 0.0;
   }
 
-  const bool adams = method.integrator == "cvode-adams";
-  std::unique_ptr<Stepper> stepper;
-  if (method.integrator == "arkode-erk")
-    stepper = std::make_unique<ArkodeStepper>(find_erk_method(method.erk_method), vec.ctx, vec.x, vec.atol, opt, span,
-                                              data, problem.event_count());
-  else
-    stepper = std::make_unique<CvodeStepper>(!adams, vec.ctx, vec.x, vec.atol, opt, span, data,
-                                             problem.event_count());
+  const std::unique_ptr<ode::Stepper> stepper =
+      info.make_stepper({method, vec.ctx, vec.x, vec.atol, opt, span, data, problem.event_count()});
 
   IdaCounters before_restart;
   forward_events(problem, result, sink, before_restart);
@@ -515,7 +230,7 @@ RunResult integrate_ode(OdeProblem& problem, const SolverSettings& opt, const Ti
                                      problem.describe_stall(t, x.data()));
       break;
     }
-    if (adams && data.projection.enabled && t < span.end) {
+    if (!stepper->projects_inside_step() && data.projection.enabled && t < span.end) {
       // CVODE projects inside the step for BDF only: Adams restarts.
       const OdeDrift d = problem.drift(t, x.data());
       if (d.position > data.projection.threshold || d.velocity > data.projection.threshold) {

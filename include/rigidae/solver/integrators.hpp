@@ -9,16 +9,24 @@
 //
 // index1 on an ODE integrator is the plain ODE (drift recorded, never
 // removed); projection adds the projection onto the invariants.
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace rigidae {
+
+namespace ode {
+class Stepper;      // an ODE integrator behind the driver (src/solver/ode_stepper.hpp)
+struct StepperArgs;
+}  // namespace ode
 
 struct IntegratorInfo {
   std::string name;
   std::string description;
   bool is_ode = false;              // runs the ODE form (OdeProblem), not the DAE
   std::vector<std::string> schemes;  // valid schemes; empty = every registered scheme
+  // The ODE driver's stepper (its own file in src/solver); null for IDA.
+  std::unique_ptr<ode::Stepper> (*make_stepper)(const ode::StepperArgs&) = nullptr;
 };
 
 struct ErkMethodInfo {
