@@ -130,3 +130,50 @@ def test_bad_visual_is_a_positioned_error(tmp_path, visual, message):
     assert code == 2
     assert re.search(rf"{re.escape(str(scene))}:{line}:\d+: error: ", stderr), stderr
     assert message in stderr, stderr
+
+
+def runs_in_page(html):
+    data = json.loads(re.search(r'id="motion">(.*?)</script>', html, re.S).group(1).replace("<\\/", "</"))
+    return data["runs"]
+
+
+def copies_side_by_side(img):
+    """Groups of drawn columns separated by at least 8 blank ones, in the band of the picture
+    below the run list (top left) and above the controls."""
+    band = img[200:, :]
+    drawn = (np.abs(band - 250.0).sum(axis=2) > 30).any(axis=0)
+    groups, gap = 0, 99
+    for d in drawn:
+        if d and gap >= 8:
+            groups += 1
+        gap = 0 if d else gap + 1
+    return groups
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="Debian's chromium is not installed (tools/build.sh installs it)")
+def test_compare_page_plays_every_run_side_by_side(tmp_path):
+    out = tmp_path / "cmp"
+    code, _, err = run_cli("compare", FOUR_BAR, "--only", "quaternion/euler/ggl,linear/euler/ggl", "--t-end", "0.2",
+                           "--repeat", "1", "--no-error-estimate", "--quiet", "--view", "--out", out)
+    assert code == 0, err
+    html = (out / "view.html").read_text()
+    assert loads_from_network(html) == []
+    runs = runs_in_page(html)
+    # Every run folder of the compare, the tight reference and its cross-check included, in name order.
+    folders = sorted(p.name for p in out.iterdir() if (p / "trajectory.csv").exists())
+    assert [r["name"] for r in runs] == folders
+    assert {"linear-euler-ggl", "quaternion-euler-ggl", "reference"} <= set(folders)
+    for r in runs:
+        assert len(r["times"]) == 21 and r["times"][-1] == pytest.approx(0.2)
+    # The picture holds one copy of the mechanism per run, apart from each other.
+    img = screenshot(out / "view.html", 0.1, tmp_path / "cmp.png")
+    assert copies_side_by_side(img) == len(runs)
+    # --runs keeps the named ones; a name that is no run folder is a command-line error (exit 2).
+    code, _, err = run_cli("view", out, "--runs", "quaternion-euler-ggl,reference", "--out", tmp_path / "two.html")
+    assert code == 0, err
+    assert [r["name"] for r in runs_in_page((tmp_path / "two.html").read_text())] == ["quaternion-euler-ggl",
+                                                                                      "reference"]
+    code, _, err = run_cli("view", out, "--runs", "quaternion-euler-ggl,index9", "--out", tmp_path / "bad.html")
+    assert code == 2
+    assert "--runs names no run folder 'index9'" in err and "linear-euler-ggl" in err
+    assert not (tmp_path / "bad.html").exists()

@@ -67,6 +67,27 @@ export function start(THREE, data) {
     else g = new THREE.SphereGeometry(0.01 * extent);
     return g;
   };
+  // A run's name drawn above its copy of the mechanism (a compare's runs side
+  // by side look alike): text on a canvas, a sprite that always faces the camera.
+  const nameTag = (text) => {
+    const canvas = document.createElement("canvas"), px = 48;
+    const ctx = canvas.getContext("2d");
+    ctx.font = `${px}px sans-serif`;
+    canvas.width = Math.ceil(ctx.measureText(text).width) + px, canvas.height = Math.ceil(1.4 * px);
+    ctx.font = `${px}px sans-serif`;  // resizing the canvas reset it
+    ctx.fillStyle = "#222222", ctx.textBaseline = "middle", ctx.textAlign = "center";
+    ctx.fillText(text, canvas.width / 2, canvas.height / 2);
+    const texture = new THREE.CanvasTexture(canvas);
+    texture.colorSpace = THREE.SRGBColorSpace;
+    const sprite = new THREE.Sprite(new THREE.SpriteMaterial({map: texture, depthTest: false}));
+    // As large as fits between neighbours (step apart): the camera backs off
+    // as the runs add up, and a tag of a fixed size would shrink to nothing.
+    const h = Math.min(0.1 * step, (0.9 * step * canvas.height) / canvas.width);
+    sprite.scale.set((h * canvas.width) / canvas.height, h, 1);
+    sprite.position.copy(centre).setComponent(2, hi[2] + 0.15 * extent);
+    sprite.renderOrder = 20;
+    return sprite;
+  };
   const jointRadius = 0.015 * extent;
   const jointMaterial = new THREE.MeshStandardMaterial({color: 0x333333, roughness: 0.5});
 
@@ -113,9 +134,14 @@ export function start(THREE, data) {
       return a;
     });
     const label = document.createElement("label");
-    label.innerHTML = `<input type="checkbox" checked> ${run.name}`;
-    label.querySelector("input").addEventListener("change", (e) => { root.visible = e.target.checked; draw(); });
-    if (runs.length > 1) document.getElementById("run-list").appendChild(label);
+    const box = document.createElement("input");
+    box.type = "checkbox", box.checked = true;
+    label.append(box, ` ${run.name}`);  // text, not HTML: a folder name is shown as it is
+    box.addEventListener("change", (e) => { root.visible = e.target.checked; draw(); });
+    if (runs.length > 1) {
+      document.getElementById("run-list").appendChild(label);
+      root.add(nameTag(run.name));  // side by side, each copy says which run it is
+    }
     return {run, root, bodies, joints, arrows, forceScale: fmax > 0 ? (0.2 * extent) / fmax : 0};
   });
 
