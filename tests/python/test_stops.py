@@ -12,6 +12,7 @@ import csv
 import json
 import math
 import os
+import re
 import shutil
 import signal
 import socket
@@ -244,6 +245,28 @@ def test_compare_run_timeout_makes_a_row_with_its_reason(tmp_path):
     assert row["message"].startswith("timed out: the wall-time limit of 0.5 s per run (compare --run-timeout)")
     s = read_summary(tmp_path / "quaternion-lagrange-ggl")
     assert 0 < s["t_reached"] < 1e5 and s["wall_time_s"] < 5
+
+
+def test_compare_states_the_time_limit_of_each_combination(tmp_path):
+    # The default: max(300 s, 10 x the reference's wall time), stated with the reference's time.
+    code, out, err = run_cli("compare", DOUBLE_PENDULUM, "--t-end", "0.05", "--only", "quaternion/euler/ggl",
+                             "--repeat", "1", "--no-error-estimate", "--out", tmp_path / "a")
+    assert code == 0, err
+    text = (tmp_path / "a" / "compare.txt").read_text()
+    assert text in out
+    m = re.search(r"^time limit per combination: (\S+) s \(default max\(300 s, 10 x the reference's (\S+) s\); "
+                  r"--run-timeout S sets it\)$", text, re.M)
+    assert m, text
+    limit, reference_wall = float(m.group(1)), float(m.group(2))
+    assert 0 < reference_wall < 30  # a tight reference of 0.05 s of the pendulum takes well under a second
+    assert limit == max(300.0, 10 * reference_wall)
+    # Given: named as given; 0: none.
+    for given, line in (("12.5", "time limit per combination: 12.5 s (--run-timeout)"),
+                        ("0", "time limit per combination: none (--run-timeout 0)")):
+        code, _, err = run_cli("compare", FREE_BODY, "--t-end", "0.1", "--only", "quaternion/euler/ggl", "--repeat",
+                               "1", "--run-timeout", given, "--quiet", "--out", tmp_path / given)
+        assert code == 0, err
+        assert line in (tmp_path / given / "compare.txt").read_text().splitlines()
 
 
 def test_compare_stops_with_exit_1_when_its_reference_fails(tmp_path):
