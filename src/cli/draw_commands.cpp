@@ -17,6 +17,7 @@
 #include <map>
 
 #include "commands.hpp"
+#include "output_folder.hpp"
 #include "plot_script.hpp"
 #include "rigidae/app/command_line.hpp"
 #include "rigidae/app/scene_geometry.hpp"
@@ -178,6 +179,15 @@ int draw_command_run(const std::string& name, const std::vector<std::string>& ar
   const fs::path scene_file = run_scene_file(runs.front(), values.count("--scene") ? values["--scene"] : "");
   const Scene scene = io::load_scene(scene_file.string());
 
+  {
+    // Where the script writes: a folder that cannot be written is bad input
+    // (exit 2, docs/robustness.md), said before the script starts, not a
+    // Python traceback from it.
+    fs::path out = values.count("--out") ? fs::path(values["--out"]) : fs::path();
+    if (out.empty()) out = name == "vtk" ? dir / "vtk" : dir / (name == "view" ? "view.html" : "animation.gif");
+    const fs::path folder = name == "vtk" ? out : out.parent_path();
+    create_output_folder(folder.empty() ? fs::path(".") : folder, /*disposable=*/false);
+  }
   TempFile geometry{fs::temp_directory_path() / fmt::format("rigidae-geometry-{}.json", getpid())};
   {
     std::ofstream out(geometry.path);

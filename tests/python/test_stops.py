@@ -367,7 +367,7 @@ def nobody_dir():
     os.chmod(base, 0o755)
     (base / "bin").mkdir()
     shutil.copy2(CLI, base / "bin" / "rigidae")
-    for scene in (HEAVY_TOP, FREE_BODY):
+    for scene in (HEAVY_TOP, FREE_BODY, str(SOURCE / "problems" / "arm6.urdf")):
         shutil.copy2(scene, base / Path(scene).name)
     yield base
     for d, _, _ in os.walk(base):
@@ -388,6 +388,8 @@ def test_an_unwritable_output_folder_is_exit_2_for_every_command(nobody_dir):
     out = nobody_dir / "out"
     code, _, err = run_cli("study", study, "--out", out, "--quiet", "--no-plot")
     assert code == 0, err
+    code, _, err = run_cli("solve", heavy_top, "--t-end", "0.01", "--record", "grid", "--quiet", "--out", out / "run")
+    assert code == 0, err
     for d, _, _ in os.walk(nobody_dir):
         os.chmod(d, 0o555)
     results = {
@@ -397,6 +399,11 @@ def test_an_unwritable_output_folder_is_exit_2_for_every_command(nobody_dir):
                                  "quaternion/lagrange/ggl", "--out", out),
         "study run": run_as_nobody(nobody_dir, "study", "run", study, "--shard", "0/1", "--out", out / "again"),
         "study collect": run_as_nobody(nobody_dir, "study", "collect", study, "--out", out, "--no-plot"),
+        # The drawing commands and export write into a folder too (a traceback and exit 1 before).
+        "view": run_as_nobody(nobody_dir, "view", out / "run", "--scene", heavy_top),
+        "vtk": run_as_nobody(nobody_dir, "vtk", out / "run", "--scene", heavy_top, "--out", out / "vtk"),
+        "animate": run_as_nobody(nobody_dir, "animate", out / "run", "--scene", heavy_top, "--out", out / "a.gif"),
+        "export": run_as_nobody(nobody_dir, "export", "--mjcf", nobody_dir / "arm6.urdf", "-o", out / "arm6.xml"),
     }
     for what, (code, _, err) in results.items():
         assert code == 2, f"{what}: exit {code}: {err}"
