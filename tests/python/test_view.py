@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from conftest import SOURCE, run_cli
+from conftest import SOURCE, read_csv, run_cli
 
 FOUR_BAR = str(SOURCE / "problems" / "four_bar.toml")
 CHROMIUM = shutil.which("chromium")
@@ -177,3 +177,34 @@ def test_compare_page_plays_every_run_side_by_side(tmp_path):
     assert code == 2
     assert "--runs names no run folder 'index9'" in err and "linear-euler-ggl" in err
     assert not (tmp_path / "bad.html").exists()
+
+
+def rotate(q, v):
+    """R(q) v for a unit quaternion q = (w, x, y, z), scalar first."""
+    w, u = q[0], np.asarray(q[1:])
+    return v + 2.0 * np.cross(u, np.cross(u, v) + w * v)
+
+
+def test_markers_reach_the_page_where_the_solver_records_them(tmp_path):
+    """[[markers]]: each one in the page's geometry (its body and its point in the body frame, from
+    the centre of mass, as the joints' points); placed on the page's frames, it is where the solver
+    recorded it (trajectory.csv's MARKER.x..z)."""
+    scene = tmp_path / "four_bar_marker.toml"
+    scene.write_text(open(FOUR_BAR).read() + '\n[[markers]]\nname = "tip"\nbody = "coupler"\n'
+                                              'point = [0.5521052337679108, 0.0, 0.3867486538272633]\n')
+    out = tmp_path / "run"
+    page, html = solve_and_view(scene, out, "--t-end", "0.3")
+    data = json.loads(re.search(r'id="motion">(.*?)</script>', html, re.S).group(1).replace("<\\/", "</"))
+    [marker] = data["geometry"]["markers"]
+    assert marker["name"] == "tip" and marker["body"] == 1
+    assert 'id="show-markers"' in html
+    units, header, rows = read_csv(out / "trajectory.csv")
+    col = {h: k for k, h in enumerate(header)}
+    run = data["runs"][0]
+    assert len(run["frames"]) == len(rows)
+    worst = 0.0
+    for frame, row in zip(run["frames"], rows):
+        x, q = np.array(frame[7:10]), np.array(frame[10:14])  # body 1: x, y, z, qw..qz
+        recorded = np.array([float(row[col[f"tip.{a}"]]) for a in "xyz"])
+        worst = max(worst, float(np.linalg.norm(x + rotate(q, np.array(marker["point"])) - recorded)))
+    assert worst < 1e-5  # the page's numbers have 6 significant digits
