@@ -74,6 +74,7 @@ import math
 import os
 import re
 import sys
+import textwrap
 import warnings
 
 import numpy as np
@@ -792,12 +793,14 @@ def finish_figure(fig, title, subtitle, handles, path):
     lay = fig.rigidae_layout
     axes, pw, ph = lay["axes"], lay["panel_w"], lay["panel_h"]
     nrows, ncols = axes.shape
-    n_sub = subtitle.count("\n") + 1 if subtitle else 0
     left, right, col_gap = 0.95, 0.3, (0.5 if lay["sharey"] else 0.95)
+    fig_w = left + right + ncols * pw + (ncols - 1) * col_gap
+    if subtitle:  # wrapped to the page: a one-panel figure is only ~7 inches wide
+        subtitle = "\n".join(wrap_to(subtitle, 0.96 * fig_w, 10))
+    n_sub = subtitle.count("\n") + 1 if subtitle else 0
     above = [0.36 + 0.155 * max(getattr(ax, "rigidae_notes", 0) for ax in axes[i]) for i in range(nrows)]
     below_row, below_last = 0.3, 0.55
     head = 0.5 + 0.19 * n_sub
-    fig_w = left + right + ncols * pw + (ncols - 1) * col_gap
     ncol = legend_columns(handles, fig_w) if handles else 1
     legend_rows = math.ceil(len(handles) / ncol) if handles else 0
     foot = 0.12 + 0.25 * legend_rows
@@ -866,11 +869,25 @@ def style_axis(ax, ylabel, log, ctx, show_xlabel):
     ax.tick_params(labelsize=9.5, labelbottom=True)
 
 
+# Width of an average character of DejaVu Sans (matplotlib's default) in em;
+# 0.6 is on the wide side of its lower-case average, so wrapped text fits.
+CHAR_EM = 0.6
+
+
+def wrap_to(text, width_in, fontsize):
+    """text's lines wrapped to width_in inches at fontsize points (a figure's text
+    is not clipped by matplotlib: a long note would run off the panel or the page)."""
+    chars = max(20, int(width_in * 72 / (CHAR_EM * fontsize)))
+    return [w for line in text.split("\n") for w in (textwrap.wrap(line, chars, subsequent_indent="  ") or [""])]
+
+
 def panel_title(ax, label, notes, infos=()):
     """Bold panel label; the failure notes (red, small) and the identical-run notes (grey)
-    between it and the axes."""
+    between it and the axes, each wrapped to the panel's width."""
     size = 9
-    lines = [(n, "#b00000") for n in notes] + [(n, "0.35") for n in infos]
+    width = getattr(ax.figure, "rigidae_layout", {}).get("panel_w", ax.figure.get_figwidth())
+    lines = ([(w, "#b00000") for n in notes for w in wrap_to(n, width, size)]
+             + [(w, "0.35") for n in infos for w in wrap_to(n, width, size)])
     for k, (text, color) in enumerate(reversed(lines)):
         ax.annotate(text, xy=(0, 1), xycoords="axes fraction", xytext=(0, 3 + k * size * 1.25),
                     textcoords="offset points", ha="left", va="bottom", fontsize=size, color=color)

@@ -3,7 +3,8 @@
 
 Usage:
     /usr/bin/python3 tools/readme_tables.py --measure   # run the measurements (about a minute), record, rewrite
-    /usr/bin/python3 tools/readme_tables.py --studies   # rerun the three studies (~15 min), their figures, rewrite
+    /usr/bin/python3 tools/readme_tables.py --studies   # rerun the three studies (4.5 min on a quiet 2-core machine), their figures, rewrite
+    /usr/bin/python3 tools/readme_tables.py --measure --studies   # both: every table and study figure with today's timings
     /usr/bin/python3 tools/readme_tables.py             # rewrite README.md from the recorded results
     /usr/bin/python3 tools/readme_tables.py --check     # exit 1 if README.md differs from them (CI)
 

@@ -305,7 +305,8 @@ class MultibodyRun(_RunOutcome):
     joint_steps(name)  the same at every IDA step (from steps)
     summary    status, message, t_reached, counters, linear_solver (the one
                used), unknowns, start_warnings, multipliers_error_controlled,
-               multipliers_error_note (summary.json's names)
+               multipliers_error_note, build (commit, dirty, date: recorded at
+               build time) and run (command_line, date) (summary.json's names)
     out        the folder steps.csv, trajectory.csv and events.csv went to, or None
     """
 
@@ -321,6 +322,7 @@ class MultibodyRun(_RunOutcome):
                                             "start_warnings", "multipliers_error_controlled",
                                             "multipliers_error_note")}
         self.summary["counters"] = dict(raw["counters"])
+        self.summary.update(json.loads(raw["provenance"]))  # "build" and "run", as summary.json has them
         record = raw["record"]
         self.steps = _structured(raw["step_columns"], raw["steps"], [], ("order",)) if record == "steps" else None
         self.grid = _structured(raw["grid_columns"], raw["grid"], [], ()) if record != "none" else None

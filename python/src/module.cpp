@@ -24,6 +24,7 @@
 #include "memory_recorder.hpp"
 #include "rigidae/app/command_line.hpp"
 #include "rigidae/app/compare.hpp"
+#include "rigidae/app/provenance.hpp"
 #include "rigidae/app/solve.hpp"
 #include "rigidae/app/study.hpp"
 #include "rigidae/coords/representation.hpp"
@@ -313,6 +314,10 @@ py::dict solve_multibody(const Scene& scene, const std::string& record, const st
   r["grid"] = table(memory.grid_, grid_columns.size());
   r["events"] = events;
   r["out"] = out ? py::cast(*out) : py::object(py::none());
+  // summary.json's "build" and "run" (this call's time): a MultibodyRun has no summary.json.
+  nlohmann::json provenance;
+  add_provenance(provenance);
+  r["provenance"] = provenance.dump();
   return r;
 }
 

@@ -212,6 +212,8 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
   const double reference_wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - reference_started).count();
   report.run_timeout_s = opt.run_timeout.value_or(default_run_timeout(reference_wall));
+  report.run_timeout_default = !opt.run_timeout.has_value();
+  report.reference_wall_s = reference_wall;
   const ReferenceTrajectory& ref = report.reference;
   if (g_interrupt_requested.load()) {
     report.interrupted = true;
@@ -297,6 +299,16 @@ std::string format_compare_table(const CompareReport& r) {
   std::string s;
   s += fmt::format("rigidae compare: {} ({}), rtol {:g}, atol {:g}\n", r.scene_name, r.scene_source, r.rtol, r.atol);
   s += fmt::format("reference: {}{}\n", r.reference.describe(), r.reference.ok ? "" : "; errors are not reported");
+  // The limit each combination ran under: a row that timed out says so, and
+  // the reader should know the limit before reading a row as slow.
+  if (r.run_timeout_s <= 0.0)
+    s += "time limit per combination: none (--run-timeout 0)\n";
+  else if (r.run_timeout_default)
+    s += fmt::format("time limit per combination: {:g} s (default max(300 s, 10 x the reference's {:.3g} s); "
+                     "--run-timeout S sets it)\n",
+                     r.run_timeout_s, r.reference_wall_s);
+  else
+    s += fmt::format("time limit per combination: {:g} s (--run-timeout)\n", r.run_timeout_s);
   std::size_t width = 28;
   for (const CompareRow& row : r.rows) width = std::max(width, row.combination.name().size());
   s += fmt::format("{:<{}} {:<8} {:>8} {:>9} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>21} {:>8} {:>8}{}\n",

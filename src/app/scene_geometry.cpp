@@ -155,8 +155,15 @@ std::string scene_geometry_json(const Scene& scene) {
                             {"reaction", nullptr}});
     g["extent"] = 2.0 * std::max(r, b.com_B.norm());
   }
+  // Markers ([[markers]]): a point in a body's frame from its centre of
+  // mass, as the joints' points (drawn with their paths).
+  json markers = json::array();
+  if (scene.multibody)
+    for (const MarkerSpec& m : scene.multibody->markers)
+      markers.push_back(json{{"name", m.name}, {"body", m.body}, {"point", vec(m.point)}});
   g["bodies"] = bodies;
   g["joints"] = joints;
+  g["markers"] = markers;
   return g.dump(1);
 }
 

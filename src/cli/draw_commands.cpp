@@ -6,8 +6,10 @@
 //   vtk     tools/vtk_run.py     a ParaView .pvd collection of .vtp files
 //   animate tools/animate_run.py a GIF or MP4 and a strobe picture (PNG)
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -15,6 +17,7 @@
 #include <map>
 
 #include "commands.hpp"
+#include "output_folder.hpp"
 #include "plot_script.hpp"
 #include "rigidae/app/command_line.hpp"
 #include "rigidae/app/scene_geometry.hpp"
@@ -155,9 +158,36 @@ int draw_command_run(const std::string& name, const std::vector<std::string>& ar
     throw InputError(fmt::format("rigidae {} draws one run: '{}' holds {} (a compare's folder); give one of its "
                                  "run folders, e.g. '{}'",
                                  name, dir.string(), runs.size(), runs.front().string()));
+  if (values.count("--runs")) {
+    // A name that is no run folder is a command-line error (exit 2) named
+    // here, before the script runs: the script's own exit would be a 1.
+    std::vector<std::string> missing;
+    std::string there;
+    for (const fs::path& r : runs) there += (there.empty() ? "" : ", ") + r.filename().string();
+    const std::string& list = values["--runs"];
+    for (std::size_t at = 0; at <= list.size();) {
+      const std::size_t comma = std::min(list.find(',', at), list.size());
+      const std::string want = list.substr(at, comma - at);
+      const bool found = std::any_of(runs.begin(), runs.end(), [&](const fs::path& r) { return r.filename() == want; });
+      if (!found) missing.push_back("'" + want + "'");
+      at = comma + 1;
+    }
+    if (!missing.empty())
+      throw InputError(fmt::format("rigidae {}: --runs names no run folder {} in '{}' (valid: {})", name,
+                                   fmt::join(missing, ", "), dir.string(), there));
+  }
   const fs::path scene_file = run_scene_file(runs.front(), values.count("--scene") ? values["--scene"] : "");
   const Scene scene = io::load_scene(scene_file.string());
 
+  {
+    // Where the script writes: a folder that cannot be written is bad input
+    // (exit 2, docs/robustness.md), said before the script starts, not a
+    // Python traceback from it.
+    fs::path out = values.count("--out") ? fs::path(values["--out"]) : fs::path();
+    if (out.empty()) out = name == "vtk" ? dir / "vtk" : dir / (name == "view" ? "view.html" : "animation.gif");
+    const fs::path folder = name == "vtk" ? out : out.parent_path();
+    create_output_folder(folder.empty() ? fs::path(".") : folder, /*disposable=*/false);
+  }
   TempFile geometry{fs::temp_directory_path() / fmt::format("rigidae-geometry-{}.json", getpid())};
   {
     std::ofstream out(geometry.path);

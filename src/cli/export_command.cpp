@@ -11,6 +11,7 @@
 #include "commands.hpp"
 #include "rigidae/app/command_line.hpp"
 #include "rigidae/core/error.hpp"
+#include "output_folder.hpp"
 #include "rigidae/io/checked_file.hpp"
 #include "rigidae/io/mjcf_export.hpp"
 #include "rigidae/io/scene_loader.hpp"
@@ -101,6 +102,8 @@ int export_command(const std::vector<std::string>& args) {
   const std::filesystem::path out(output);
   const auto files = io::mjcf_files(scene, options, out.filename().string());
   const std::filesystem::path dir = out.parent_path();
+  // A folder that cannot be written is bad input (exit 2), as for every command.
+  create_output_folder(dir.empty() ? std::filesystem::path(".") : dir, /*disposable=*/false);
   for (const auto& [name, text] : files) write_file_atomically(dir / name, text);
   fmt::print(stderr, "rigidae export: wrote {}{} ({} bodies, {} joints)\n", output,
              files.size() > 1 ? fmt::format(" and {} part files beside it", files.size() - 1) : "",

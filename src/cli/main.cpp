@@ -22,7 +22,7 @@ namespace {
 
 using namespace rigidae;
 
-constexpr const char* kUsage = R"(rigidae: rigid-body rotation as a DAE, solved with SUNDIALS IDA
+constexpr const char* kUsage = R"(rigidae: rigid bodies and mechanisms as DAEs or ODEs, solved with SUNDIALS IDA, CVODE or ARKODE
 
 Usage:
   rigidae solve SCENE.toml [options]     integrate a scene, write its outputs to a folder

@@ -24,16 +24,26 @@ std::filesystem::path temporary_sibling(const std::filesystem::path& path) {
   throw OutputError(fmt::format("{}: {}: {}", path.string(), what, std::strerror(err)));
 }
 
+// A name that exists and is not a regular file (after links): a device such
+// as /dev/stdout or /dev/null, a FIFO, a socket. Renaming over it would put a
+// regular file in its place (as root, in /dev); it is written in place.
+bool names_a_special_file(const std::filesystem::path& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode);
+}
+
 }  // namespace
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view text) {
-  const std::filesystem::path tmp = temporary_sibling(path);
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  const bool in_place = names_a_special_file(path);
+  const std::filesystem::path tmp = in_place ? path : temporary_sibling(path);
+  const int fd = in_place ? ::open(path.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC)
+                          : ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) throw_errno(path, "cannot open for writing", errno);
   auto give_up = [&](const char* what) {
     const int err = errno;
     ::close(fd);
-    ::unlink(tmp.c_str());
+    if (!in_place) ::unlink(tmp.c_str());
     throw_errno(path, what, err);
   };
   std::size_t done = 0;
@@ -49,9 +59,10 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view t
   if (::fsync(fd) != 0 && errno != EINVAL && errno != EROFS) give_up("fsync failed");
   if (::close(fd) != 0) {
     const int err = errno;
-    ::unlink(tmp.c_str());
+    if (!in_place) ::unlink(tmp.c_str());
     throw_errno(path, "close failed", err);
   }
+  if (in_place) return;
   if (::rename(tmp.c_str(), path.c_str()) != 0) {
     const int err = errno;
     ::unlink(tmp.c_str());

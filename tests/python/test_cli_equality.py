@@ -47,6 +47,9 @@ def test_module_equals_cli(options, tmp_path):
     py = dict(run.summary)
     py.pop("wall_time_s"), cli.pop("wall_time_s")
     assert py.pop("run")["command_line"] != cli.pop("run")["command_line"]  # this process, the CLI's
+    # The build record is each binary's: equal when both were built together, not after a commit
+    # that rebuilt only the module (tests/install/check_pip_install.py rebuilds it).
+    assert set(py.pop("build")) == set(cli.pop("build")) == {"commit", "dirty", "date"}
     # The command's own addition: the error against the closed form on the
     # output grid (the heavy top has one), from trajectory.csv and reference.csv.
     assert cli.pop("closed_form_error")["final_orientation_rad"] < 1e-3
@@ -80,6 +83,7 @@ def test_files_written_by_the_module_equal_the_cli_files(tmp_path):
     py, cli = read_summary(tmp_path / "py"), read_summary(tmp_path / "cli")
     py.pop("wall_time_s"), cli.pop("wall_time_s")
     py.pop("run"), cli.pop("run")  # the command line and the time of each
+    assert set(py.pop("build")) == set(cli.pop("build")) == {"commit", "dirty", "date"}  # each binary's, as above
     assert "closed_form_error" in cli  # the command's own addition, as above
     cli.pop("closed_form_error")
     verdict = cli.pop("error_estimate")

@@ -204,3 +204,33 @@ def test_sphere_view_sees_a_circle_face_on_enough():
     v = np.array([np.cos(np.radians(elev)) * np.cos(np.radians(azim)),
                   np.cos(np.radians(elev)) * np.sin(np.radians(azim)), np.sin(np.radians(elev))])
     assert abs(v[1]) > 0.5
+
+
+def test_long_subtitles_and_panel_notes_stay_on_the_page(tmp_path, monkeypatch):
+    """matplotlib does not clip a figure's text: a subtitle or an identical-run note longer than
+    the page ran off it (one-panel compare figures, the studies' right-hand panels). Every text
+    drawn must lie inside the figure."""
+    kept = []
+    monkeypatch.setattr(plot_compare, "save", lambda fig, path: kept.append(fig))
+    fig, axes = plot_compare.new_figure(1, 1)
+    ax = axes[0, 0]
+    ax.plot([0, 1], [1e-8, 1e-4])
+    note = "projection (arkode-erk:fehlberg78) = index1 (arkode-erk:fehlberg78) (same counts and errors; drawn once)"
+    plot_compare.panel_title(ax, "quaternion / euler", ["linear/euler/index3 (cvode-bdf) failed at t = 0.25 s: " + note],
+                             [note, note.replace("projection", "baumgarte")])
+    subtitle = ("rtol 1e-8, atol 1e-8; 12 runs\nangle between each run's orientation and the reference (exact: "
+                "Lagrange top) at every output time; largest value per time bin; values below 1e-10 (incl. exact "
+                "zeros) drawn at 1e-10")
+    plot_compare.finish_figure(fig, "heavy_top: orientation error against time", subtitle, [], str(tmp_path / "x.png"))
+    [fig] = kept
+    renderer = fig.canvas.get_renderer()
+    page = fig.bbox
+    texts = [t for t in fig.texts + ax.texts + [ax.title] if t.get_text()]
+    assert len(texts) >= 6  # title, subtitle, the wrapped notes, the panel label
+    for t in texts:
+        box = t.get_window_extent(renderer)
+        assert page.x0 - 0.5 <= box.x0 and box.x1 <= page.x1 + 0.5, (t.get_text(), box, page)
+        assert page.y0 - 0.5 <= box.y0 and box.y1 <= page.y1 + 0.5, (t.get_text(), box, page)
+    # Wrapped, not dropped: every word of the notes is drawn.
+    drawn = " ".join(t.get_text() for t in ax.texts)
+    assert drawn.count("drawn once") == 3

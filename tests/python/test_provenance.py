@@ -77,3 +77,14 @@ def test_every_tool_is_executable_with_debian_interpreters():
             mode, path = line.split()[0], line.split("\t")[1]
             if path.endswith((".py", ".sh")):
                 assert mode == "100755", f"{path}: git update-index --chmod=+x"
+
+
+def test_python_multibody_run_records_the_build_and_the_run():
+    # A MultibodyRun has no summary.json: its summary carries the same blocks, from the same build.
+    import rigidae
+    run = rigidae.solve(str(SOURCE / "problems" / "double_pendulum.toml"), t_end=0.01, record="none")
+    s = run.summary
+    assert set(s["build"]) == {"commit", "dirty", "date"}
+    assert DATE.match(s["build"]["date"]) and DATE.match(s["run"]["date"])
+    assert s["build"]["date"] <= s["run"]["date"]
+    assert "python" in s["run"]["command_line"]

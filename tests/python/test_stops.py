@@ -12,6 +12,7 @@ import csv
 import json
 import math
 import os
+import re
 import shutil
 import signal
 import socket
@@ -246,6 +247,28 @@ def test_compare_run_timeout_makes_a_row_with_its_reason(tmp_path):
     assert 0 < s["t_reached"] < 1e5 and s["wall_time_s"] < 5
 
 
+def test_compare_states_the_time_limit_of_each_combination(tmp_path):
+    # The default: max(300 s, 10 x the reference's wall time), stated with the reference's time.
+    code, out, err = run_cli("compare", DOUBLE_PENDULUM, "--t-end", "0.05", "--only", "quaternion/euler/ggl",
+                             "--repeat", "1", "--no-error-estimate", "--out", tmp_path / "a")
+    assert code == 0, err
+    text = (tmp_path / "a" / "compare.txt").read_text()
+    assert text in out
+    m = re.search(r"^time limit per combination: (\S+) s \(default max\(300 s, 10 x the reference's (\S+) s\); "
+                  r"--run-timeout S sets it\)$", text, re.M)
+    assert m, text
+    limit, reference_wall = float(m.group(1)), float(m.group(2))
+    assert 0 < reference_wall < 30  # a tight reference of 0.05 s of the pendulum takes well under a second
+    assert limit == max(300.0, 10 * reference_wall)
+    # Given: named as given; 0: none.
+    for given, line in (("12.5", "time limit per combination: 12.5 s (--run-timeout)"),
+                        ("0", "time limit per combination: none (--run-timeout 0)")):
+        code, _, err = run_cli("compare", FREE_BODY, "--t-end", "0.1", "--only", "quaternion/euler/ggl", "--repeat",
+                               "1", "--run-timeout", given, "--quiet", "--out", tmp_path / given)
+        assert code == 0, err
+        assert line in (tmp_path / given / "compare.txt").read_text().splitlines()
+
+
 def test_compare_stops_with_exit_1_when_its_reference_fails(tmp_path):
     code, _, err = run_cli("compare", HEAVY_TOP, "--reference", "tight", "--max-steps", "30", "--only", "quaternion/*/ggl", "--repeat", "1",
                            "--quiet", "--out", tmp_path / "a")
@@ -344,7 +367,7 @@ def nobody_dir():
     os.chmod(base, 0o755)
     (base / "bin").mkdir()
     shutil.copy2(CLI, base / "bin" / "rigidae")
-    for scene in (HEAVY_TOP, FREE_BODY):
+    for scene in (HEAVY_TOP, FREE_BODY, str(SOURCE / "problems" / "arm6.urdf")):
         shutil.copy2(scene, base / Path(scene).name)
     yield base
     for d, _, _ in os.walk(base):
@@ -365,6 +388,8 @@ def test_an_unwritable_output_folder_is_exit_2_for_every_command(nobody_dir):
     out = nobody_dir / "out"
     code, _, err = run_cli("study", study, "--out", out, "--quiet", "--no-plot")
     assert code == 0, err
+    code, _, err = run_cli("solve", heavy_top, "--t-end", "0.01", "--record", "grid", "--quiet", "--out", out / "run")
+    assert code == 0, err
     for d, _, _ in os.walk(nobody_dir):
         os.chmod(d, 0o555)
     results = {
@@ -374,6 +399,11 @@ def test_an_unwritable_output_folder_is_exit_2_for_every_command(nobody_dir):
                                  "quaternion/lagrange/ggl", "--out", out),
         "study run": run_as_nobody(nobody_dir, "study", "run", study, "--shard", "0/1", "--out", out / "again"),
         "study collect": run_as_nobody(nobody_dir, "study", "collect", study, "--out", out, "--no-plot"),
+        # The drawing commands and export write into a folder too (a traceback and exit 1 before).
+        "view": run_as_nobody(nobody_dir, "view", out / "run", "--scene", heavy_top),
+        "vtk": run_as_nobody(nobody_dir, "vtk", out / "run", "--scene", heavy_top, "--out", out / "vtk"),
+        "animate": run_as_nobody(nobody_dir, "animate", out / "run", "--scene", heavy_top, "--out", out / "a.gif"),
+        "export": run_as_nobody(nobody_dir, "export", "--mjcf", nobody_dir / "arm6.urdf", "-o", out / "arm6.xml"),
     }
     for what, (code, _, err) in results.items():
         assert code == 2, f"{what}: exit {code}: {err}"

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from conftest import SOURCE, run_cli
+from conftest import SOURCE, read_csv, run_cli
 
 FOUR_BAR = str(SOURCE / "problems" / "four_bar.toml")
 CHROMIUM = shutil.which("chromium")
@@ -130,3 +130,81 @@ def test_bad_visual_is_a_positioned_error(tmp_path, visual, message):
     assert code == 2
     assert re.search(rf"{re.escape(str(scene))}:{line}:\d+: error: ", stderr), stderr
     assert message in stderr, stderr
+
+
+def runs_in_page(html):
+    data = json.loads(re.search(r'id="motion">(.*?)</script>', html, re.S).group(1).replace("<\\/", "</"))
+    return data["runs"]
+
+
+def copies_side_by_side(img):
+    """Groups of drawn columns separated by at least 8 blank ones, in the band of the picture
+    below the run list (top left) and above the controls."""
+    band = img[200:, :]
+    drawn = (np.abs(band - 250.0).sum(axis=2) > 30).any(axis=0)
+    groups, gap = 0, 99
+    for d in drawn:
+        if d and gap >= 8:
+            groups += 1
+        gap = 0 if d else gap + 1
+    return groups
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="Debian's chromium is not installed (tools/build.sh installs it)")
+def test_compare_page_plays_every_run_side_by_side(tmp_path):
+    out = tmp_path / "cmp"
+    code, _, err = run_cli("compare", FOUR_BAR, "--only", "quaternion/euler/ggl,linear/euler/ggl", "--t-end", "0.2",
+                           "--repeat", "1", "--no-error-estimate", "--quiet", "--view", "--out", out)
+    assert code == 0, err
+    html = (out / "view.html").read_text()
+    assert loads_from_network(html) == []
+    runs = runs_in_page(html)
+    # Every run folder of the compare, the tight reference and its cross-check included, in name order.
+    folders = sorted(p.name for p in out.iterdir() if (p / "trajectory.csv").exists())
+    assert [r["name"] for r in runs] == folders
+    assert {"linear-euler-ggl", "quaternion-euler-ggl", "reference"} <= set(folders)
+    for r in runs:
+        assert len(r["times"]) == 21 and r["times"][-1] == pytest.approx(0.2)
+    # The picture holds one copy of the mechanism per run, apart from each other.
+    img = screenshot(out / "view.html", 0.1, tmp_path / "cmp.png")
+    assert copies_side_by_side(img) == len(runs)
+    # --runs keeps the named ones; a name that is no run folder is a command-line error (exit 2).
+    code, _, err = run_cli("view", out, "--runs", "quaternion-euler-ggl,reference", "--out", tmp_path / "two.html")
+    assert code == 0, err
+    assert [r["name"] for r in runs_in_page((tmp_path / "two.html").read_text())] == ["quaternion-euler-ggl",
+                                                                                      "reference"]
+    code, _, err = run_cli("view", out, "--runs", "quaternion-euler-ggl,index9", "--out", tmp_path / "bad.html")
+    assert code == 2
+    assert "--runs names no run folder 'index9'" in err and "linear-euler-ggl" in err
+    assert not (tmp_path / "bad.html").exists()
+
+
+def rotate(q, v):
+    """R(q) v for a unit quaternion q = (w, x, y, z), scalar first."""
+    w, u = q[0], np.asarray(q[1:])
+    return v + 2.0 * np.cross(u, np.cross(u, v) + w * v)
+
+
+def test_markers_reach_the_page_where_the_solver_records_them(tmp_path):
+    """[[markers]]: each one in the page's geometry (its body and its point in the body frame, from
+    the centre of mass, as the joints' points); placed on the page's frames, it is where the solver
+    recorded it (trajectory.csv's MARKER.x..z)."""
+    scene = tmp_path / "four_bar_marker.toml"
+    scene.write_text(open(FOUR_BAR).read() + '\n[[markers]]\nname = "tip"\nbody = "coupler"\n'
+                                              'point = [0.5521052337679108, 0.0, 0.3867486538272633]\n')
+    out = tmp_path / "run"
+    page, html = solve_and_view(scene, out, "--t-end", "0.3")
+    data = json.loads(re.search(r'id="motion">(.*?)</script>', html, re.S).group(1).replace("<\\/", "</"))
+    [marker] = data["geometry"]["markers"]
+    assert marker["name"] == "tip" and marker["body"] == 1
+    assert 'id="show-markers"' in html
+    units, header, rows = read_csv(out / "trajectory.csv")
+    col = {h: k for k, h in enumerate(header)}
+    run = data["runs"][0]
+    assert len(run["frames"]) == len(rows)
+    worst = 0.0
+    for frame, row in zip(run["frames"], rows):
+        x, q = np.array(frame[7:10]), np.array(frame[10:14])  # body 1: x, y, z, qw..qz
+        recorded = np.array([float(row[col[f"tip.{a}"]]) for a in "xyz"])
+        worst = max(worst, float(np.linalg.norm(x + rotate(q, np.array(marker["point"])) - recorded)))
+    assert worst < 1e-5  # the page's numbers have 6 significant digits

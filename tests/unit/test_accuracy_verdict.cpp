@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -132,6 +133,52 @@ TEST_CASE("verdict: the branch check names a companion on another motion") {
   judge(e, s);
   CHECK_FALSE(e.branch_disagreement);
   CHECK(e.warnings.empty());
+}
+
+// problems/singular_linkage.toml in euler/lagrange/index1 at rtol 1e-7 stays
+// on the parallelogram branch (within 1e-5 rad of the closed form in its
+// header), while its companion at rtol 1e-9 changes branch at a collinear
+// pose and ends 2.6 rad away, its centres of mass less than L apart. The
+// verdict said "the results are far less accurate than the tolerance
+// suggests" about a right run; it now says which it cannot tell.
+TEST_CASE("verdict: after a singular pose a disagreeing companion is a branch question, not the run's error") {
+  const fs::path out = rigidae::test::fresh_temp_dir("verdict_singular");
+  const auto r = rigidae::test::run_cli("solve " + std::string(RIGIDAE_SOURCE_DIR) +
+                                        "/problems/singular_linkage.toml --coordinates euler --equations lagrange "
+                                        "--scheme index1 --rtol 1e-7 --atol 1e-7 --error-estimate -q --out " +
+                                        out.string());
+  REQUIRE(r.exit_code == 0);
+  // The truth: theta = pi/3 + 2 pi t; crank and rocker turned about y by -theta, the coupler not turned.
+  const BodyGrid g = read_body_grid(out / "trajectory.csv");
+  REQUIRE(g.bodies == std::vector<std::string>{"crank", "coupler", "rocker"});
+  double off = 0.0;
+  for (std::size_t i = 0; i < g.t.size(); ++i) {
+    const double th = std::numbers::pi / 3.0 + 2.0 * std::numbers::pi * g.t[i];
+    const Vec4 turned(std::cos(-th / 2.0), 0.0, std::sin(-th / 2.0), 0.0), still(1.0, 0.0, 0.0, 0.0);
+    off = std::max({off, so3::quaternion_distance(g.q_WB[i][0], turned), so3::quaternion_distance(g.q_WB[i][1], still),
+                    so3::quaternion_distance(g.q_WB[i][2], turned)});
+  }
+  CHECK(g.t.back() == doctest::Approx(1.0));
+  CHECK(off < 1e-4);  // the run is on the right branch
+
+  const nlohmann::json summary = read_json(out / "summary.json");
+  const nlohmann::json& e = summary["error_estimate"];
+  CHECK(e["orientation"]["max_orientation_rad"].get<double>() > 1.0);  // its companion is not
+  CHECK(e["position_rel_max"].get<double>() < 1.0);                    // ... though less than L apart
+  CHECK(e["singular_pose_passed"].get<bool>());
+  CHECK(e["branch_disagreement"].get<bool>());
+  int verdict = 0;
+  for (const auto& w : summary["warnings"]) {
+    const std::string q = w["quantity"], m = w["message"];
+    if (q != "orientation_error" && q != "position_error") continue;
+    ++verdict;
+    CAPTURE(m);
+    CHECK(m.find("may be far less accurate") != std::string::npos);
+    CHECK(m.find("are far less accurate") == std::string::npos);
+    CHECK(m.find("passed a singular pose") != std::string::npos);
+    CHECK(m.find("which one is right is not known") != std::string::npos);
+  }
+  CHECK(verdict == 2);
 }
 
 TEST_CASE("verdict: where a closed form exists, its error decides") {

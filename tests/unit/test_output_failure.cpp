@@ -149,4 +149,41 @@ TEST_CASE("output: a study run that cannot write is never counted complete") {
   CHECK(collect.output.find("1 run of the study have no complete folder yet") != std::string::npos);
 }
 
+// A small file's name can be a device or a link to one (-o /dev/stdout, a
+// link to /dev/full standing for a full disk). Renaming the completed
+// temporary over it replaced the device by a regular file: as root,
+// `rigidae export --mjcf X -o /dev/full` put the model in /dev/full and
+// reported success. Links here, so that a regression replaces only the link.
+TEST_CASE("output: a small file named by a device is written into the device, never renamed over it") {
+  const fs::path dir = fresh_temp_dir("device");
+  const fs::path full = dir / "model_on_a_full_disk.xml", null = dir / "discarded.xml";
+  fs::create_symlink("/dev/full", full);
+  fs::create_symlink("/dev/null", null);
+  std::string message = "no error";
+  try {
+    rigidae::write_file_atomically(full, "<mujoco/>");
+  } catch (const rigidae::OutputError& e) {
+    message = e.what();
+  }
+  CAPTURE(message);
+  CHECK(message.rfind(full.string() + ": write failed", 0) == 0);
+  CHECK(message.find("No space left on device") != std::string::npos);
+  CHECK_NOTHROW(rigidae::write_file_atomically(null, "<mujoco/>"));
+  for (const fs::path& link : {full, null}) {
+    CHECK(fs::is_symlink(link));
+    CHECK(fs::is_character_file(link));
+  }
+  int others = 0;
+  for (const auto& e : fs::directory_iterator(dir)) others += e.path() != full && e.path() != null;
+  CHECK(others == 0);  // no temporary left
+  // Through the CLI: export into the full device fails (exit 1) naming the file.
+  const auto r = rigidae::test::run_cli("export --mjcf " + (fs::path(RIGIDAE_SOURCE_DIR) / "problems" / "arm6.urdf").string() +
+                                        " -o " + full.string());
+  CAPTURE(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find(full.string() + ": write failed") != std::string::npos);
+  CHECK(r.output.find("rigidae export: wrote") == std::string::npos);
+  CHECK(fs::is_character_file(full));
+}
+
 TEST_SUITE_END();

@@ -261,4 +261,54 @@ TEST_CASE("singular poses: solve warns about a singular pose passed and lists it
   CHECK(events.find(",singular_pose,A B C D,") != std::string::npos);
 }
 
+// Issue 25 item 4: a flat four-bar's start is called singular, not redundant
+// or overconstrained. The shipped parallelogram (singular_linkage.toml) moved
+// to crank angle 0, where all four bars lie on the x axis: its constraint rows
+// have rank 16 there and 17 at every other pose (the scene's header: "17 -> 16
+// of its 20 rows"), so the lost rank belongs to the pose, not to the design.
+TEST_CASE("singular poses: a four-bar started flat is called a singular start, the same linkage off the pose is not") {
+  const std::string shipped = rigidae::test::read_file(fs::path(RIGIDAE_SOURCE_DIR) / "problems" / "singular_linkage.toml");
+  // theta = 0: crank centre (a/2, 0, 0), coupler B + (c/2, 0, 0), rocker D + (a/2, 0, 0), all unturned;
+  // velocities theta' = 2 pi rad/s along +z (d/dt of (a/2)(cos, 0, sin) at 0).
+  struct Edit {
+    std::string from, to;
+  };
+  const std::vector<Edit> edits = {
+      {"position = [0.05000000000000002, 0.0, 0.08660254037844387]\naxis_angle = { axis = [0.0, 1.0, 0.0], angle = "
+       "-1.0471975511965976 }\nvelocity = [-0.5441398092702653, 0.0, 0.31415926535897937]",
+       "position = [0.1, 0.0, 0.0]\nvelocity = [0.0, 0.0, 0.6283185307179586]"},
+      {"position = [0.30000000000000004, 0.0, 0.17320508075688773]\nvelocity = [-1.0882796185405306, 0.0, "
+       "0.6283185307179587]",
+       "position = [0.4, 0.0, 0.0]\nvelocity = [0.0, 0.0, 1.2566370614359172]"},
+      {"position = [0.45000000000000007, 0.0, 0.08660254037844387]\naxis_angle = { axis = [0.0, 1.0, 0.0], angle = "
+       "-1.0471975511965976 }\nvelocity = [-0.5441398092702653, 0.0, 0.31415926535897937]",
+       "position = [0.5, 0.0, 0.0]\nvelocity = [0.0, 0.0, 0.6283185307179586]"},
+      {"point = [0.10000000000000003, 0.0, 0.17320508075688773]", "point = [0.2, 0.0, 0.0]"},
+      {"point = [0.5, 0.0, 0.17320508075688773]", "point = [0.6, 0.0, 0.0]"},
+  };
+  std::string flat = shipped;
+  for (const Edit& e : edits) {
+    const std::size_t at = flat.find(e.from);
+    REQUIRE_MESSAGE(at != std::string::npos, e.from);
+    flat.replace(at, e.from.size(), e.to);
+  }
+  MultibodyProblem off(io::parse_scene(shipped, "parallelogram.toml"));
+  CHECK(off.redundancy().rank == 17);
+  CHECK_FALSE(off.redundancy().singular_start);
+
+  MultibodyProblem on(io::parse_scene(flat, "flat.toml"));
+  const multibody::RedundancyReport& r = on.redundancy();
+  CHECK(r.rank == 16);
+  CHECK(r.nearby_rank == 17);
+  CHECK(r.singular_start);
+  std::string singular;
+  for (const std::string& w : on.warnings()) {
+    CHECK(w.find("overconstrained") == std::string::npos);
+    if (w.find("singular start") != std::string::npos) singular = w;
+  }
+  CAPTURE(singular);
+  CHECK(singular.rfind("flat.toml:", 0) == 0);  // positioned in the scene file
+  CHECK(singular.find("rank 16 at the start but 17 at nearby poses") != std::string::npos);
+}
+
 TEST_SUITE_END();

@@ -8,6 +8,7 @@
 // point is in. A shape's point x_V is at x + R (position + R_BV x_V).
 // The address may hold #t=SECONDS: the page then shows that time, paused.
 
+const MARKER_COLOUR = 0xd4a000;
 const COLOURS = [0x4e79a7, 0xf28e2b, 0x59a14f, 0xe15759, 0x76b7b2, 0xedc948, 0xb07aa1, 0xff9da7, 0x9c755f];
 
 export function start(THREE, data) {
@@ -67,8 +68,31 @@ export function start(THREE, data) {
     else g = new THREE.SphereGeometry(0.01 * extent);
     return g;
   };
+  // A run's name drawn above its copy of the mechanism (a compare's runs side
+  // by side look alike): text on a canvas, a sprite that always faces the camera.
+  const nameTag = (text) => {
+    const canvas = document.createElement("canvas"), px = 48;
+    const ctx = canvas.getContext("2d");
+    ctx.font = `${px}px sans-serif`;
+    canvas.width = Math.ceil(ctx.measureText(text).width) + px, canvas.height = Math.ceil(1.4 * px);
+    ctx.font = `${px}px sans-serif`;  // resizing the canvas reset it
+    ctx.fillStyle = "#222222", ctx.textBaseline = "middle", ctx.textAlign = "center";
+    ctx.fillText(text, canvas.width / 2, canvas.height / 2);
+    const texture = new THREE.CanvasTexture(canvas);
+    texture.colorSpace = THREE.SRGBColorSpace;
+    const sprite = new THREE.Sprite(new THREE.SpriteMaterial({map: texture, depthTest: false}));
+    // As large as fits between neighbours (step apart): the camera backs off
+    // as the runs add up, and a tag of a fixed size would shrink to nothing.
+    const h = Math.min(0.1 * step, (0.9 * step * canvas.height) / canvas.width);
+    sprite.scale.set((h * canvas.width) / canvas.height, h, 1);
+    sprite.position.copy(centre).setComponent(2, hi[2] + 0.15 * extent);
+    sprite.renderOrder = 20;
+    return sprite;
+  };
   const jointRadius = 0.015 * extent;
   const jointMaterial = new THREE.MeshStandardMaterial({color: 0x333333, roughness: 0.5});
+  const markerMaterial = new THREE.MeshStandardMaterial({color: MARKER_COLOUR, roughness: 0.4});
+  if (!(G.markers || []).length) document.getElementById("markers-box").style.display = "none";
 
   const R = runs.map((run, k) => {
     const root = new THREE.Group();
@@ -113,10 +137,31 @@ export function start(THREE, data) {
       return a;
     });
     const label = document.createElement("label");
-    label.innerHTML = `<input type="checkbox" checked> ${run.name}`;
-    label.querySelector("input").addEventListener("change", (e) => { root.visible = e.target.checked; draw(); });
-    if (runs.length > 1) document.getElementById("run-list").appendChild(label);
-    return {run, root, bodies, joints, arrows, forceScale: fmax > 0 ? (0.2 * extent) / fmax : 0};
+    const box = document.createElement("input");
+    box.type = "checkbox", box.checked = true;
+    label.append(box, ` ${run.name}`);  // text, not HTML: a folder name is shown as it is
+    box.addEventListener("change", (e) => { root.visible = e.target.checked; draw(); });
+    if (runs.length > 1) {
+      document.getElementById("run-list").appendChild(label);
+      root.add(nameTag(run.name));  // side by side, each copy says which run it is
+    }
+    // Markers: a gold dot on the body and the path of its point (the trail).
+    const markers = (G.markers || []).map((mk) => {
+      const dot = new THREE.Mesh(new THREE.SphereGeometry(0.6 * jointRadius, 12, 8), markerMaterial);
+      dot.position.set(mk.point[0], mk.point[1], mk.point[2]);
+      bodies[mk.body].group.add(dot);
+      const c = new THREE.Vector3(...mk.point), pts = new Float32Array(3 * run.frames.length), i = mk.body;
+      run.frames.forEach((fr, f) => {
+        const p = c.clone().applyQuaternion(quat(fr.slice(7 * i + 3, 7 * i + 7)));
+        pts[3 * f] = fr[7 * i] + p.x, pts[3 * f + 1] = fr[7 * i + 1] + p.y, pts[3 * f + 2] = fr[7 * i + 2] + p.z;
+      });
+      const tg = new THREE.BufferGeometry();
+      tg.setAttribute("position", new THREE.BufferAttribute(pts, 3));
+      const trail = new THREE.Line(tg, new THREE.LineBasicMaterial({color: MARKER_COLOUR}));
+      root.add(trail);
+      return {dot, trail};
+    });
+    return {run, root, bodies, joints, arrows, markers, forceScale: fmax > 0 ? (0.2 * extent) / fmax : 0};
   });
 
   const t0 = Math.min(...runs.map((r) => r.times[0])), t1 = Math.max(...runs.map((r) => r.times[r.times.length - 1]));
@@ -130,7 +175,7 @@ export function start(THREE, data) {
     }
     return a;
   };
-  const show = {trails: true, forces: true, joints: true};
+  const show = {trails: true, forces: true, joints: true, markers: true};
 
   function place() {
     const tmp = new THREE.Vector3();
@@ -143,6 +188,11 @@ export function start(THREE, data) {
         b.trail.visible = show.trails;
       });
       r.joints.forEach((m) => { m.visible = show.joints; });
+      r.markers.forEach((m) => {
+        m.dot.visible = show.markers;
+        m.trail.visible = show.markers && show.trails;
+        m.trail.geometry.setDrawRange(0, i + 1);
+      });
       r.run.force_joints.forEach((j, a) => {
         const arrow = r.arrows[a], F = r.run.forces[i].slice(3 * a, 3 * a + 3);
         const len = Math.min(Math.hypot(F[0], F[1], F[2]) * r.forceScale, 0.5 * extent);  // peaks capped
@@ -222,7 +272,7 @@ export function start(THREE, data) {
     t = t0 + (parseFloat(e.target.value) / 10000) * (t1 - t0);
     draw();
   });
-  for (const k of ["trails", "forces", "joints"])
+  for (const k of ["trails", "forces", "joints", "markers"])
     document.getElementById(`show-${k}`).addEventListener("change", (e) => { show[k] = e.target.checked; draw(); });
 
   const fromHash = () => {

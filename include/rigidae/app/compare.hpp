@@ -131,6 +131,8 @@ struct CompareReport {
   ReferenceTrajectory reference;
   std::vector<CompareRow> rows;
   double run_timeout_s = 0.0;  // the per-run limit used (0: none)
+  bool run_timeout_default = true;  // run_timeout_s is default_run_timeout(reference_wall_s), not --run-timeout
+  double reference_wall_s = 0.0;    // the reference's wall time (s), which the default limit scales
   // Why compare stopped before running every combination ("" if it did
   // not): a signal, or a failed reference without keep_going.
   std::string stopped;

@@ -91,7 +91,12 @@ struct ErrorEstimate {
 
   double tolerance = 0.0;  // max(rtol, atol) of the run
   double limit = 0.0;      // kVerdictFactor x tolerance
-  bool branch_disagreement = false;  // the run and its companion differ by more than L
+  // The run and its companion differ by more than L, or differ past the limit
+  // after one of them passed a singular pose (singular_pose_passed): then
+  // either may have changed assembly branch, and the difference is no error
+  // estimate of the run.
+  bool branch_disagreement = false;
+  bool singular_pose_passed = false;  // the run or its companion reported a singular_pose warning
   std::vector<AccuracyWarning> warnings;  // the verdict's, past the limit
 
   // A companion's orientation estimate beside the closed form's error that

@@ -26,7 +26,9 @@ class OutputError : public std::runtime_error {
 };
 
 // Writes `text` to `path` through a temporary sibling and a rename.
-// Throws OutputError (the temporary is removed) on any failure.
+// Throws OutputError (the temporary is removed) on any failure. A path that
+// names a device, FIFO or socket (after links: -o /dev/stdout, a link to
+// /dev/full) is written in place, checked the same way, never replaced.
 void write_file_atomically(const std::filesystem::path& path, std::string_view text);
 
 // A buffered stream written in place, every operation checked.
