@@ -65,7 +65,8 @@ PRESETS = {
                    ("sleeping_top.toml", None), ("thin_rod_top.toml", 1.0)],
         "single_rtols": [10.0 ** -k for k in range(4, 13)],
         "mechanisms": [("four_bar.toml", 1.0), ("double_pendulum.toml", 1.0), ("slider_mechanism.toml", 1.0),
-                       ("heavy_top_absolute.toml", 0.5), ("bricard.toml", 0.3), ("singular_linkage.toml", None)],
+                       ("heavy_top_absolute.toml", 0.5), ("bricard.toml", 0.3), ("singular_linkage.toml", None),
+                       ("four_bar_assembled.toml", 1.0)],
         "mechanism_rtols": [10.0 ** -k for k in range(4, 11)],
     },
     # The parallelogram through its collinear (singular) poses alone, against its closed form.
