@@ -295,7 +295,8 @@ class MultibodyRun(_RunOutcome):
     units      {column: unit} of grid's columns (as trajectory.csv's first line)
     bodies, joints   names, in the scene's order
     body(name)  {"t", "q" (n x 4, scalar first), "omega" (n x 3, rad/s, space),
-                 "x" (n x 3, m), "v" (n x 3, m/s)} from the grid
+                 "x" (n x 3, m), "v" (n x 3, m/s)} from the grid (a particle:
+                 no "q", "omega")
     joint(name) {"t", "force" (n x 3, N), "torque" (n x 3, N m), "residual_position",
                  "residual_velocity", and its coordinates: "angle", "angle_rate" (rad,
                  rad/s; revolute, cylindrical), "displacement", "displacement_rate"
@@ -303,10 +304,14 @@ class MultibodyRun(_RunOutcome):
                  (universal)}: the reaction on the joint's second body, in space,
                  on the grid
     joint_steps(name)  the same at every IDA step (from steps)
-    summary    status, message, t_reached, counters, linear_solver (the one
-               used), unknowns, start_warnings, multipliers_error_controlled,
-               multipliers_error_note, build (commit, dirty, date: recorded at
-               build time) and run (command_line, date) (summary.json's names)
+    summary    with out: summary.json as the CLI writes it; without:
+               status, message, t_reached, counters, linear_solver (the one
+               used), integrator, unknowns, start_warnings, warnings (the
+               accuracy check's, as summary.json lists them),
+               multipliers_error_controlled, multipliers_error_note, build
+               (commit, dirty, date: recorded at build time) and run
+               (command_line, date) (summary.json's names). The run is the
+               CLI's: any integrator the scene or the options name
     out        the folder steps.csv, trajectory.csv and events.csv went to, or None
     """
 
@@ -318,11 +323,15 @@ class MultibodyRun(_RunOutcome):
         self.bodies = list(raw["bodies"])
         self.joints = list(raw["joints"])
         self.units = dict(zip(raw["grid_columns"], raw["grid_units"]))
-        self.summary = {k: raw[k] for k in ("status", "message", "t_reached", "linear_solver", "unknowns",
-                                            "start_warnings", "multipliers_error_controlled",
-                                            "multipliers_error_note")}
-        self.summary["counters"] = dict(raw["counters"])
-        self.summary.update(json.loads(raw["provenance"]))  # "build" and "run", as summary.json has them
+        if raw["summary"]:  # written to out: summary.json itself
+            self.summary = json.loads(raw["summary"])
+        else:
+            self.summary = {k: raw[k] for k in ("status", "message", "t_reached", "linear_solver", "integrator",
+                                                "unknowns", "start_warnings", "multipliers_error_controlled",
+                                                "multipliers_error_note")}
+            self.summary["counters"] = dict(raw["counters"])
+            self.summary["warnings"] = json.loads(raw["warnings"])
+            self.summary.update(json.loads(raw["provenance"]))  # "build" and "run", as summary.json has them
         record = raw["record"]
         self.steps = _structured(raw["step_columns"], raw["steps"], [], ("order",)) if record == "steps" else None
         self.grid = _structured(raw["grid_columns"], raw["grid"], [], ()) if record != "none" else None
@@ -336,9 +345,12 @@ class MultibodyRun(_RunOutcome):
     def body(self, name):
         if name not in self.bodies:
             raise KeyError(f"{name!r} is not a body of this scene; bodies: {', '.join(self.bodies)}")
-        return {"t": self.grid["t"], "q": self._columns(name, ["qw", "qx", "qy", "qz"]),
-                "omega": self._columns(name, ["wx", "wy", "wz"]), "x": self._columns(name, ["x", "y", "z"]),
-                "v": self._columns(name, ["vx", "vy", "vz"])}
+        out = {"t": self.grid["t"], "x": self._columns(name, ["x", "y", "z"]),
+               "v": self._columns(name, ["vx", "vy", "vz"])}
+        if f"{name}.qw" in self.grid.dtype.names:  # a particle has no rotation
+            out["q"] = self._columns(name, ["qw", "qx", "qy", "qz"])
+            out["omega"] = self._columns(name, ["wx", "wy", "wz"])
+        return out
 
     def joint(self, name):
         if name not in self.joints:

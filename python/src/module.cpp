@@ -18,6 +18,8 @@
 #include <cmath>
 #include <csignal>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <filesystem>
 #include <optional>
 
@@ -248,41 +250,40 @@ class MultibodyMemory final : public StepSink {
 py::dict solve_multibody(const Scene& scene, const std::string& record, const std::optional<std::string>& out) {
   if (record != "steps" && record != "grid" && record != "none")
     throw InputError(fmt::format("record='{}' is not valid (valid: 'steps', 'grid' or 'none')", record));
-  multibody::MultibodyProblem problem(scene);
-  std::unique_ptr<MultibodyRecorder> files;
-  if (out) {
-    std::error_code ec;
-    fs::create_directories(*out, ec);
-    if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", *out, ec.message()));
-    files = std::make_unique<MultibodyRecorder>(problem, fs::path(*out), OutputSettings{}, scene.time,
-                                                scene.solver.integrator);
-  }
-  MultibodyMemory memory(problem, record == "steps", record != "none", files.get());
-  RunResult run;
+  // The run is the CLI's (app/solve.hpp): the integrator the scene names,
+  // the accuracy check; with `out` also its files and summary.json. The
+  // memory sits beside the files; what it reads of the problem is taken
+  // while the problem lives.
+  std::unique_ptr<MultibodyMemory> memory;
+  std::vector<std::string> grid_columns{"t"}, units{"s"}, bodies, joints, step_columns;
+  const MultibodySinkAttach attach = [&](multibody::MultibodyProblem& problem) -> StepSink* {
+    memory = std::make_unique<MultibodyMemory>(problem, record == "steps", record != "none", nullptr);
+    for (const std::string& n : problem.output_names(memory->grid_parts())) grid_columns.push_back(n);
+    for (const std::string& u : problem.output_units(memory->grid_parts())) units.push_back(u);
+    for (const auto& b : problem.bodies()) bodies.push_back(b.name);
+    for (const auto& j : problem.spec().joints) joints.push_back(j.name);
+    step_columns = memory->step_columns();
+    return memory.get();
+  };
+  SolveOutcome o;
+  std::string summary;
   bool interrupted = false;
   {
     InterruptScope interrupt;
     py::gil_scoped_release release;
-    try {
-      run = integrate(problem, scene.solver, scene.time, memory);
-    } catch (const SolverError& e) {
-      run.status = RunStatus::Failed;
-      run.message = e.what();
+    if (out) {
+      o = solve_multibody_with(scene, fs::path(*out), attach);
+      std::ifstream f(fs::path(*out) / "summary.json");
+      summary.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+    } else {
+      o = solve_multibody_in_memory(scene, attach);
     }
-    if (files) files->flush();
     interrupted = interrupt.interrupted();
   }
-  std::vector<std::string> grid_columns{"t"};
-  for (const std::string& n : problem.output_names(memory.grid_parts())) grid_columns.push_back(n);
-  std::vector<std::string> units{"s"};
-  for (const std::string& u : problem.output_units(memory.grid_parts())) units.push_back(u);
-  std::vector<std::string> bodies, joints;
-  for (const auto& b : problem.bodies()) bodies.push_back(b.name);
-  for (const auto& j : problem.spec().joints) joints.push_back(j.name);
   py::list events;
-  for (const EventNote& e : memory.events_)
+  for (const EventNote& e : memory->events_)
     events.append(py::make_tuple(e.t, e.what, e.body, e.from, e.to, e.margin, e.drift_position, e.drift_velocity));
-  const IdaCounters& c = run.counters;
+  const IdaCounters& c = o.run.counters;
   py::dict counters;
   counters["steps"] = c.steps;
   counters["residual_evals"] = c.residual_evals;
@@ -290,31 +291,40 @@ py::dict solve_multibody(const Scene& scene, const std::string& record, const st
   counters["nonlinear_iters"] = c.nonlinear_iters;
   counters["nonlinear_conv_fails"] = c.nonlinear_conv_fails;
   counters["error_test_fails"] = c.error_test_fails;
+  counters["projections"] = c.projections;
   py::dict r;
-  r["status"] = to_string(run.status);
-  r["message"] = run.message;
+  r["status"] = to_string(o.run.status);
+  r["message"] = o.run.message;
   r["interrupted"] = interrupted;
-  r["t_reached"] = run.t_reached;
-  r["linear_solver"] = run.linear_solver;
+  r["t_reached"] = o.run.t_reached;
+  r["linear_solver"] = o.run.linear_solver;
+  r["integrator"] = scene.solver.integrator;
   r["counters"] = counters;
-  r["unknowns"] = problem.size();
-  r["start_warnings"] = problem.warnings();  // as summary.json names them
+  r["unknowns"] = o.unknowns;
+  r["start_warnings"] = o.start_warnings;  // as summary.json names them
+  nlohmann::json warnings = nlohmann::json::array();  // the accuracy check's, as summary.json has them
+  for (const AccuracyWarning& w : o.warnings)
+    warnings.push_back({{"quantity", w.quantity},
+                        {"drift", w.drift},
+                        {"limit", w.limit},
+                        {"factor", w.factor},
+                        {"tolerance", w.tolerance},
+                        {"message", w.message}});
+  r["warnings"] = warnings.dump();
   r["bodies"] = bodies;
   r["joints"] = joints;
   r["record"] = record;
-  const std::vector<std::string> step_columns = memory.step_columns();
   r["step_columns"] = step_columns;
-  r["steps"] = table(memory.steps_, step_columns.size());
-  const MultiplierErrorControl control =
-      multiplier_error_control(scene.solver.integrator, problem.suppress_algebraic_error_test(), problem.scheme().name);
-  r["multipliers_error_controlled"] = control.controlled;  // as summary.json names them
-  r["multipliers_error_note"] = control.note;
+  r["steps"] = table(memory->steps_, step_columns.size());
+  r["multipliers_error_controlled"] = o.multipliers_error.controlled;  // as summary.json names them
+  r["multipliers_error_note"] = o.multipliers_error.note;
   r["grid_columns"] = grid_columns;
   r["grid_units"] = units;
-  r["grid"] = table(memory.grid_, grid_columns.size());
+  r["grid"] = table(memory->grid_, grid_columns.size());
   r["events"] = events;
   r["out"] = out ? py::cast(*out) : py::object(py::none());
-  // summary.json's "build" and "run" (this call's time): a MultibodyRun has no summary.json.
+  r["summary"] = summary;  // summary.json's text when written (out), else empty
+  // summary.json's "build" and "run" (this call's time).
   nlohmann::json provenance;
   add_provenance(provenance);
   r["provenance"] = provenance.dump();

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <optional>
 
 #include "rigidae/app/multibody_accuracy_check.hpp"
 #include "rigidae/io/checked_file.hpp"
@@ -50,7 +51,78 @@ nlohmann::json recorded_parts_json(const multibody::MultibodyProblem& p, const M
   return out;
 }
 
+// Every step, output point and event to two sinks (the files, then `also`).
+class TeeSink final : public StepSink {
+ public:
+  TeeSink(StepSink& first, StepSink& second) : first_(first), second_(second) {}
+  void on_step(double t, double h, int order, const Eigen::VectorXd& y) override {
+    first_.on_step(t, h, order, y);
+    second_.on_step(t, h, order, y);
+  }
+  void on_output(double t, const Eigen::VectorXd& y) override {
+    first_.on_output(t, y);
+    second_.on_output(t, y);
+  }
+  void on_event(const EventNote& note) override {
+    first_.on_event(note);
+    second_.on_event(note);
+  }
+  bool needs_every_output() const override { return first_.needs_every_output() || second_.needs_every_output(); }
+
+ private:
+  StepSink &first_, &second_;
+};
+
+// Singular poses passed (multibody/row_subset.cpp): the branch may have changed.
+void add_singular_pose_warning(const multibody::MultibodyProblem& problem, SolveOutcome& o) {
+  if (!problem.singular_poses().empty()) {
+    const multibody::SingularPose& first = problem.singular_poses().front();
+    AccuracyWarning w;
+    w.quantity = "singular_pose";
+    w.drift = first.condition;
+    w.message = fmt::format(
+        "the run passed {} singular pose(s) (first at t = {:.9g} s, joints {}), where the constraint rows nearly lose rank "
+        "and assembly branches cross; the motion may have continued on another branch "
+        "(rigidae has no general branch check: compare with a closed form or the mechanism's known branch; "
+        "events.csv lists them as singular_pose)",
+        problem.singular_poses().size(), first.t, first.joints);
+    o.warnings.push_back(w);
+  }
+
+}
+
 }  // namespace
+
+SolveOutcome solve_multibody_with(const Scene& scene, const std::filesystem::path& out_dir,
+                                  const MultibodySinkAttach& also) {
+  return solve_multibody_scene(scene, out_dir, also);
+}
+
+SolveOutcome solve_multibody_in_memory(const Scene& scene, const MultibodySinkAttach& also) {
+  check_multibody_integrator(scene);
+  multibody::MultibodyProblem problem(scene);
+  SolveOutcome o;
+  o.representation = to_string(scene.formulation.coordinates) + "/" + to_string(scene.formulation.equations);
+  o.scheme = problem.scheme().name;
+  o.unknowns = problem.size();
+  o.multipliers_error =
+      multiplier_error_control(scene.solver.integrator, problem.suppress_algebraic_error_test(), o.scheme);
+  StepSink* sink = also(problem);
+  MultibodyInvariantMonitor monitor(problem, scene, sink);
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    o.run = run_multibody(problem, scene, monitor);
+  } catch (const SolverError& e) {
+    o.run.status = RunStatus::Failed;
+    o.run.message = e.what();
+  }
+  o.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  o.drifts = monitor.drifts();
+  o.warnings = monitor.warnings();
+  add_singular_pose_warning(problem, o);
+  o.start_warnings = problem.warnings();
+  return o;
+}
 
 void check_multibody_integrator(const Scene& scene) {
   if (find_integrator(scene.solver.integrator, scene.source).is_ode)
@@ -73,7 +145,8 @@ RunResult run_multibody(multibody::MultibodyProblem& problem, const Scene& scene
   return r;
 }
 
-SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::path& out_dir) {
+SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::path& out_dir,
+                                   const MultibodySinkAttach& also) {
   check_multibody_integrator(scene);
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
@@ -89,7 +162,10 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
   o.multipliers_error =
       multiplier_error_control(scene.solver.integrator, problem.suppress_algebraic_error_test(), o.scheme);
   MultibodyRecorder recorder(problem, out_dir, scene.output, scene.time, scene.solver.integrator);
-  MultibodyInvariantMonitor monitor(problem, scene, &recorder);
+  StepSink* extra = also ? also(problem) : nullptr;
+  std::optional<TeeSink> tee;
+  if (extra) tee.emplace(recorder, *extra);
+  MultibodyInvariantMonitor monitor(problem, scene, tee ? static_cast<StepSink*>(&*tee) : &recorder);
   const auto t0 = std::chrono::steady_clock::now();
   try {
     o.run = run_multibody(problem, scene, monitor);
@@ -117,20 +193,7 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
   o.extremes.max_abs_energy_error = recorder.max_abs_energy_rel_error();
   o.drifts = monitor.drifts();
   o.warnings = monitor.warnings();
-  // Singular poses passed (multibody/row_subset.cpp): the branch may have changed.
-  if (!problem.singular_poses().empty()) {
-    const multibody::SingularPose& first = problem.singular_poses().front();
-    AccuracyWarning w;
-    w.quantity = "singular_pose";
-    w.drift = first.condition;
-    w.message = fmt::format(
-        "the run passed {} singular pose(s) (first at t = {:.9g} s, joints {}), where the constraint rows nearly lose rank "
-        "and assembly branches cross; the motion may have continued on another branch "
-        "(rigidae has no general branch check: compare with a closed form or the mechanism's known branch; "
-        "events.csv lists them as singular_pose)",
-        problem.singular_poses().size(), first.t, first.joints);
-    o.warnings.push_back(w);
-  }
+  add_singular_pose_warning(problem, o);
 
   // The keys both summaries share (summary_common.hpp), then a mechanism's own.
   nlohmann::json j = common_summary_json(scene, o);

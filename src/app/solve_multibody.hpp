@@ -6,7 +6,8 @@
 
 namespace rigidae {
 
-SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::path& out_dir);
+SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::path& out_dir,
+                                   const MultibodySinkAttach& also = {});
 
 // The integrator a multibody scene may name: ida (the DAE) with any scheme,
 // or cvode-adams, cvode-bdf, arkode-erk (the ODE form, multibody_ode.hpp)

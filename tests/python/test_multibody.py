@@ -11,12 +11,19 @@ from conftest import SOURCE, read_csv, read_summary, run_cli
 
 DOUBLE_PENDULUM = str(SOURCE / "problems" / "double_pendulum.toml")
 HEAVY_TOP_ABSOLUTE = str(SOURCE / "problems" / "heavy_top_absolute.toml")
+PARTICLE_PENDULUM = str(SOURCE / "problems" / "particle_pendulum.toml")
 
 
 @pytest.mark.parametrize("scene,options", [
     (DOUBLE_PENDULUM, dict(t_end=0.5)),
     (HEAVY_TOP_ABSOLUTE, dict(t_end=0.2, coordinates="euler", scheme="index2")),
-], ids=["double_pendulum", "heavy_top_absolute/euler/index2"])
+    # The ODE integrators run mechanisms from Python as from the CLI.
+    (DOUBLE_PENDULUM, dict(t_end=0.5, integrator="cvode-adams", scheme="projection")),
+    (HEAVY_TOP_ABSOLUTE, dict(t_end=0.2, integrator="arkode-erk", scheme="index1", rtol=1e-4, atol=1e-4)),
+    # A run the accuracy check warns about (the plain ODE's energy drift).
+    (PARTICLE_PENDULUM, dict(t_end=10.0, integrator="cvode-adams", scheme="index1", rtol=1e-6, atol=1e-6)),
+], ids=["double_pendulum", "heavy_top_absolute/euler/index2", "double_pendulum/cvode-adams",
+        "heavy_top_absolute/arkode-erk/index1/loose", "particle_pendulum/cvode-adams/index1/warned"])
 def test_multibody_module_equals_cli(scene, options, tmp_path):
     args = []
     for k, v in options.items():
@@ -30,6 +37,11 @@ def test_multibody_module_equals_cli(scene, options, tmp_path):
     for k, v in run.counters.items():
         assert v == cli["counters"][k], k
     assert run.summary["linear_solver"] == cli["linear_solver"]
+    assert run.summary["integrator"] == cli["integrator"]
+    # The accuracy check's warnings, as the CLI's summary.json lists them.
+    assert [w["message"] for w in run.summary["warnings"]] == [w["message"] for w in cli["warnings"]]
+    if scene == PARTICLE_PENDULUM:
+        assert [w["quantity"] for w in run.summary["warnings"]] == ["energy"]
 
     _, header, rows = read_csv(tmp_path / "cli" / "trajectory.csv")
     assert list(run.grid.dtype.names) == header
@@ -39,7 +51,11 @@ def test_multibody_module_equals_cli(scene, options, tmp_path):
         np.testing.assert_array_equal(run.grid[name], table[:, i], err_msg=name)
     # The per-body and per-joint views are the same columns.
     for b in run.bodies:
-        np.testing.assert_array_equal(run.body(b)["q"][:, 0], table[:, header.index(f"{b}.qw")])
+        np.testing.assert_array_equal(run.body(b)["x"][:, 2], table[:, header.index(f"{b}.z")])
+        if f"{b}.qw" in header:  # a particle has no rotation columns
+            np.testing.assert_array_equal(run.body(b)["q"][:, 0], table[:, header.index(f"{b}.qw")])
+        else:
+            assert "q" not in run.body(b)
     for j in run.joints:
         np.testing.assert_array_equal(run.joint(j)["force"][:, 2], table[:, header.index(f"{j}.force_z")])
         # Its residuals and coordinates (JOINT.angle, ...) under their column names.
@@ -73,6 +89,10 @@ def test_heavy_top_pivot_reaction_at_start():
 
 def test_multibody_out_writes_the_cli_files(tmp_path):
     run = rigidae.solve(DOUBLE_PENDULUM, t_end=0.2, out=tmp_path / "py")
+    # summary.json is written, and it is the run's summary.
+    written = read_summary(tmp_path / "py")
+    assert run.summary == written
+    assert written["status"] == "success" and written["counters"]["steps"] == run.counters["steps"]
     _, header, rows = read_csv(tmp_path / "py" / "trajectory.csv")
     assert header == list(run.grid.dtype.names)
     assert len(rows) == len(run.grid)

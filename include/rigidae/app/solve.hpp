@@ -50,6 +50,19 @@ struct RunSink {
 // and returns the recording. out_dir stays empty; nothing is written.
 SolveOutcome solve_with(const Scene& scene, const std::function<RunSink(const OneBodyView&)>& attach);
 
+// solve_scene for a scene of bodies and joints (schema 2, URDF) with a second
+// sink beside its files: `also` receives the assembled problem and returns a
+// sink that sees every step, output point and event as the recorder does
+// (the Python module's memory), or null.
+using MultibodySinkAttach = std::function<StepSink*(multibody::MultibodyProblem&)>;
+SolveOutcome solve_multibody_with(const Scene& scene, const std::filesystem::path& out_dir,
+                                  const MultibodySinkAttach& also);
+
+// The same run with no files (the Python module without `out`): the
+// integrator the scene names, the accuracy check and its warnings; `also`
+// is the only sink.
+SolveOutcome solve_multibody_in_memory(const Scene& scene, const MultibodySinkAttach& also);
+
 // The text of summary.json for an outcome (what solve_scene writes).
 std::string summary_json(const Scene& scene, const SolveOutcome& o);
 void write_summary(const std::filesystem::path& path, const Scene& scene, const SolveOutcome& o);
