@@ -21,7 +21,7 @@
 namespace rigidae::multibody {
 
 void MultibodyProblem::assemble_linear_part(double t, const double* y, JacobianSink& sink, bool just_evaluated) {
-  if (!just_evaluated) evaluate(t, y, lagrange_form_ ? 2 : 1);
+  if (!just_evaluated) evaluate(t, y, lagrange_form_ ? 2 : 1, /*for_rows=*/true);
   for (const BodyModel& b : bodies_) {
     const BodyWork& w = work_[&b - bodies_.data()];
     sink.add_diagonal(b.q_group, 1.0);

@@ -227,6 +227,7 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
   }
   sink_ = std::make_unique<JacobianSink>(groups_);
   prepare_minimum_norm_reactions();
+  decoupled_ = bodies_decoupled();
 
   start(scene);
 
@@ -282,15 +283,19 @@ void MultibodyProblem::choose_start_charts(double t0) {
   }
 }
 
-void MultibodyProblem::evaluate(double t, const double* y, int order) {
+void MultibodyProblem::evaluate(double t, const double* y, int order, bool for_rows) {
   evaluated_t_ = t;
   force_bodies_.t = t;
+  // The placement R(q) and its partials serve joint rows, force elements and
+  // reports; the residual and matrix of decoupled bodies (bodies_decoupled:
+  // a one-body scene) read only the rotation block's terms.
+  const bool placement = !for_rows || !decoupled_;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const BodyModel& b = bodies_[i];
     BodyWork& w = work_[i];
     w.st.q = y + groups_[b.q_group].offset;
     w.st.v = y + groups_[b.v_group].offset;
-    b.map->evaluate(w.st.q + b.nx, order, w.st.P);
+    if (placement) b.map->evaluate(w.st.q + b.nx, order, w.st.P);
     const VecQ qr = ConstMap(w.st.q + b.nx, b.nqr);
     const VecV vr = ConstMap(w.st.v + b.nx, b.nvr);
     b.rep->evaluate(t, qr, vr, w.terms);
@@ -418,7 +423,7 @@ void MultibodyProblem::internal_block_rows(const ConstraintBlock& blk, const Eig
 
 bool MultibodyProblem::residual(double t, const double* y, const double* yp, double* F) {
   for (BodyWork& w : work_) w.st.P.nq = 0;
-  evaluate(t, y, lagrange_form_ ? 2 : 1);
+  evaluate(t, y, lagrange_form_ ? 2 : 1, /*for_rows=*/true);
   const ConstMap ym(y, n_), ypm(yp, n_);
   Eigen::Map<Eigen::VectorXd> Fm(F, n_);
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
@@ -501,7 +506,7 @@ bool MultibodyProblem::residual(double t, const double* y, const double* yp, dou
 void MultibodyProblem::assemble_jacobian(double t, double cj, const double* y, const double* yp,
                                          JacobianSink& sink) {
   const bool lagrange = lagrange_form_;
-  evaluate(t, y, lagrange ? 3 : 2);
+  evaluate(t, y, lagrange ? 3 : 2, /*for_rows=*/true);
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const BodyModel& b = bodies_[i];
     BodyWork& w = work_[i];

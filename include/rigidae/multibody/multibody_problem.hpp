@@ -374,7 +374,7 @@ class MultibodyProblem final : public DaeProblem {
   // Start charts: each body with Euler angles in its most regular chart when
   // its own is within the switching margin at the start (multibody_problem.cpp).
   void choose_start_charts(double t0);
-  void evaluate(double t, const double* y, int order);
+  void evaluate(double t, const double* y, int order, bool for_rows = false);
   void evaluate_block(int j, const double* y, const double* yp);
   // make_consistent for bodies not joined to one another (consistent_start.cpp):
   // each body by the one-body consistent start; F the residual at v' = 0 and
@@ -461,6 +461,7 @@ class MultibodyProblem final : public DaeProblem {
   int n_ = 0;
   int n_state_ = 0;  // the bodies' q and v come first
   bool has_force_blocks_ = false;
+  bool decoupled_ = false;  // bodies_decoupled(), fixed once the model is built
   SparsityPattern pattern_;
   std::unique_ptr<JacobianSink> sink_;
   std::vector<BodyWork> work_;
