@@ -19,13 +19,13 @@
 //       final orientation error, one JSON line each in the format of
 //       bench/peers/results.jsonl (peer "rigidae", setting_kind "rtol")
 //
-// --through-system by-body | kkt (sweep, --mode unrecorded only): the
-// one-body scene runs as a system of one pivoted body (one_body_system,
-// MultibodyProblem) instead of the one-body model: IDA on it, or its ODE
-// form MultibodyOde on the per-body path (by-body: the one-body arithmetic,
-// schemes/body_ode.hpp) or on the KKT path (kkt: the general mechanism
-// solve). Rows carry "through_system". Callgrind counts of both forms:
-// docs/benchmarks.md, "The ODE form through the multibody model".
+// --through-system by-body | kkt (sweep, --mode unrecorded only): which path
+// of the ODE form MultibodyOde the unrecorded runs take (every one-body
+// scene runs as a system of one pivoted body, one_body_system): by-body (the
+// default, what solve takes: the one-body arithmetic, schemes/body_ode.hpp)
+// or kkt (the general mechanism solve); IDA runs the same DAE either way.
+// Rows carry "through_system" when the flag is given. Callgrind counts of
+// both forms: docs/benchmarks.md, "The ODE form through the multibody model".
 //
 // I is solver.integrator (ida, cvode-adams, cvode-bdf, arkode-erk; default:
 // the scene's) and M solver.erk_method (fehlberg78, verner65, dopri5): the
@@ -58,11 +58,9 @@
 
 #include "machine_info.hpp"
 #include "rigidae/app/compare.hpp"
-#include "rigidae/app/run_integrator.hpp"
 #include "rigidae/app/solve.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/dae/dae_system.hpp"
-#include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/model/one_body_system.hpp"
@@ -216,26 +214,9 @@ struct RunSample {
   Vec4 q_end = Vec4::Constant(kNaN);
 };
 
-RunSample run_unrecorded(const Scene& s) {
-  auto dae = assemble_dae(s);
-  FinalStateSink sink;
-  RunSample r;
-  IntegratorRun run(*dae, s);
-  const auto t0 = std::chrono::steady_clock::now();
-  try {
-    r.run = run.run(sink);
-  } catch (const SolverError& e) {
-    r.run.status = RunStatus::Failed;
-    r.run.message = e.what();
-  }
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (r.run.status == RunStatus::Success && sink.y_last.size() > 0)
-    r.q_end = run.chart_state().representation().orientation(dae->coordinates(sink.y_last.data()));  // in the chart it ended in
-  return r;
-}
-
-// The same integration through the multibody model: the scene as one
-// pivoted body; the ODE form on its per-body path or on the KKT path.
+// The integration without recording, as every scene runs: the scene as a
+// system of one pivoted body; the ODE form on its per-body path (what solve
+// takes) or on the KKT path.
 RunSample run_through_system(const Scene& s, bool by_body) {
   multibody::MultibodyProblem problem(one_body_system(s));
   const bool ode_form = find_integrator(s.solver.integrator).is_ode;
@@ -329,7 +310,7 @@ json measure(const Scene& s, const Combination& c, const Options& o, const std::
   if (o.mode != "recorded") {
     auto [r, walls] = repeated(
         [&] {
-          return o.through_system.empty() ? run_unrecorded(s) : run_through_system(s, o.through_system == "by-body");
+          return run_through_system(s, o.through_system != "kkt");
         },
         o.repeats, o.budget_s);
     if (!o.through_system.empty()) row["through_system"] = o.through_system;

@@ -245,7 +245,7 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
   pattern_ = sink_->finish_recording();
 }
 
-// As the one-body model at its start (SingleBodyProblem::initial_state): a
+// As the (deleted) one-body model did at its start: a
 // body whose Euler-angle chart is within the switching margin at its start
 // pose starts in the most regular chart, its coordinates and velocities
 // written there from the physical start (angle rates through the near-

@@ -12,10 +12,11 @@
 #include <vector>
 
 #include "rigidae/dae/dae_system.hpp"
-#include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"
+#include "rigidae/model/one_body_system.hpp"
+#include "rigidae/multibody/multibody_problem.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
 #include "rigidae/so3/rotation.hpp"
@@ -124,15 +125,13 @@ void check_states(DaeSystem& dae, const Scene& s, std::mt19937& rng, double scal
 // Records orientation (as a quaternion) on the output grid.
 class OrientationSink final : public StepSink {
  public:
-  explicit OrientationSink(const SingleBodyProblem& problem) : problem_(problem) {}
+  explicit OrientationSink(const multibody::MultibodyProblem& problem) : problem_(problem) {}
   void on_step(double, double, int, const Eigen::VectorXd&) override {}
-  void on_output(double, const Eigen::VectorXd& y) override {
-    q_.push_back(problem_.representation().orientation(problem_.system().coordinates(y.data())));
-  }
+  void on_output(double, const Eigen::VectorXd& y) override { q_.push_back(problem_.body_orientation(0, y.data())); }
   const std::vector<Vec4>& orientations() const { return q_; }
 
  private:
-  const SingleBodyProblem& problem_;
+  const multibody::MultibodyProblem& problem_;
   std::vector<Vec4> q_;
 };
 
@@ -148,8 +147,8 @@ struct Run {
 Run run(Scene s, const std::string& jacobian, const std::string& linear_solver = "dense") {
   s.solver.jacobian = jacobian;
   s.solver.linear_solver = linear_solver;
-  const std::unique_ptr<DaeSystem> dae = assemble_dae(s);
-  SingleBodyProblem problem(*dae, s.formulation.euler, s.R0_WB, s.omega0_B, s.source);
+  // The scene as every scene runs: a system of one pivoted body.
+  multibody::MultibodyProblem problem(one_body_system(s));
   OrientationSink sink(problem);
   Run r;
   r.result = integrate(problem, s.solver, s.time, sink);

@@ -1,10 +1,10 @@
 #pragma once
 // One body's equations as an ODE x' = f(t, x), x = (q, v), for CVODE and
-// ARKODE: the arithmetic written once, for the one-body ODE form
-// (dae/single_body_ode.hpp) and for the multibody ODE form's bodies when
-// they are not coupled to one another (multibody/multibody_ode.hpp), so that
-// a one-body scene run as a system of one body integrates bit for bit as the
-// one-body model (tests/unit/test_body_ode.cpp).
+// ARKODE: the arithmetic of the deleted one-body ODE form (SingleBodyOde),
+// now the multibody ODE form's for bodies that are not coupled to one
+// another (multibody/multibody_ode.hpp), so that a one-body scene run as a
+// system of one body integrates bit for bit as the one-body model did
+// (tests/guard/pinned.json's ode_runs; tests/unit/test_body_ode.cpp).
 //
 //   q' = N(q) v
 //   Euler form (and Euler angles): M v' = f           (no multipliers: the
