@@ -4,7 +4,7 @@
 // the scene's settings, must give the pinned counters (every one) and the
 // pinned final orientation and body angular velocity, read through
 // OneBodyView as the records read them. The pins were recorded from the
-// one-body model (src/dae, commit 4f13209) and held bit for bit through the
+// one-body model (the deleted src/dae, commit 4f13209), held bit for bit by the
 // multibody model while both existed; with the one-body model deleted they
 // are the independent record of its runs. Measured (MESSAGE per run): steps,
 // residuals, Jacobians and the distance to the pinned orientation. 34 runs:

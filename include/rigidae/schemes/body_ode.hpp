@@ -24,7 +24,7 @@
 //
 // Invariants (nc > 0): Phi(q) = 0, and in the Lagrange form G v = 0.
 // drift(): the 2-norms |Phi| and |G v| (|Phi_q N v| in the Euler form), the
-// one-body rule (schemes::block_drift, DaeSystem::drift).
+// one-body rule (schemes::block_drift).
 // project(): q to the nearest point of Phi = 0 (the representation's own:
 // the normalised quaternion, the polar factor of R), then v to G v = 0 in
 // the metric of M. project_error(): its linearisation at x (e_q orthogonally
