@@ -9,7 +9,7 @@
 # repeat) is counted twice:
 #   valgrind --tool=callgrind --toggle-collect='rigidae::integrate(*' \
 #       BUILD/bench/rigidae_bench sweep problems/heavy_top.toml --only C --rtols X --repeats 1 --mode unrecorded
-#   (the same with --toggle-collect='rigidae::DaeSystem::residual(*', and
+#   (the same with --toggle-collect='rigidae::multibody::MultibodyProblem::residual(*', and
 #   with --mode recorded: integrate() then includes writing every step)
 # Collection is on only inside that function (callees included), so the
 # totals are its inclusive instruction counts (Ir). Per step: Ir(integrate) /
@@ -54,7 +54,7 @@ for jac in "${kinds[@]}"; do
   for c in "${combos_a[@]}"; do
     args=(sweep problems/heavy_top.toml --only "$c" --rtols "$rtol" --repeats 1 --mode unrecorded --jacobian "$jac")
     row="$(count "$tmp/step.out" 'rigidae::integrate(*' "$build/bench/rigidae_bench" "${args[@]}" | tail -1)"
-    count "$tmp/res.out" 'rigidae::DaeSystem::residual(*' "$build/bench/rigidae_bench" "${args[@]}" >/dev/null
+    count "$tmp/res.out" 'rigidae::multibody::MultibodyProblem::residual(*' "$build/bench/rigidae_bench" "${args[@]}" >/dev/null
     count "$tmp/rec.out" 'rigidae::integrate(*' "$build/bench/rigidae_bench" "${args[@]/unrecorded/recorded}" >/dev/null
     /usr/bin/python3 - "$row" "$(total_ir "$tmp/step.out")" "$(total_ir "$tmp/res.out")" "$(total_ir "$tmp/rec.out")" <<'EOF'
 import json, sys

@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# The ODE form of a one-body scene, three ways, in instructions (callgrind):
-# the one-body model (SingleBodyOde), and the scene as a system of one
-# pivoted body (one_body_system + MultibodyProblem) through MultibodyOde on
-# its per-body path (by-body: schemes::BodyOde) and on its general KKT path
-# (kkt). For each combination and integrator, each way is run once,
+# The ODE form of a one-body scene, two ways, in instructions (callgrind):
+# the scene as a system of one pivoted body (one_body_system +
+# MultibodyProblem) through MultibodyOde on its per-body path (by-body:
+# schemes::BodyOde, what solve takes) and on its general KKT path (kkt).
+# (The one-body model, SingleBodyOde, the third way of
+# bench/results/callgrind_through_system.jsonl, is deleted.)
+# For each combination and integrator, each way is run once,
 # unrecorded, and counted inside rigidae::integrate_ode (callees included:
 # the integrator's own work, the right-hand sides, projections, events):
 #
@@ -41,9 +43,9 @@ IFS=, read -ra combos_a <<<"$combos"
 IFS=, read -ra integrators_a <<<"$integrators"
 for c in "${combos_a[@]}"; do
   for i in "${integrators_a[@]}"; do
-    for way in one-body by-body kkt; do
-      args=(sweep problems/heavy_top.toml --only "$c" --integrator "$i" --rtols "$rtol" --repeats 1 --mode unrecorded)
-      [ "$way" != one-body ] && args+=(--through-system "$way")
+    for way in by-body kkt; do
+      args=(sweep problems/heavy_top.toml --only "$c" --integrator "$i" --rtols "$rtol" --repeats 1 --mode unrecorded
+            --through-system "$way")
       row="$(valgrind --tool=callgrind --callgrind-out-file="$tmp/out" --toggle-collect='rigidae::integrate_ode(*' \
                "$build/bench/rigidae_bench" "${args[@]}" 2>/dev/null | tail -1)"
       /usr/bin/python3 - "$row" "$(total_ir "$tmp/out")" "$way" <<'EOF'

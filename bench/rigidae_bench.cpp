@@ -19,13 +19,13 @@
 //       final orientation error, one JSON line each in the format of
 //       bench/peers/results.jsonl (peer "rigidae", setting_kind "rtol")
 //
-// --through-system by-body | kkt (sweep, --mode unrecorded only): the
-// one-body scene runs as a system of one pivoted body (one_body_system,
-// MultibodyProblem) instead of the one-body model: IDA on it, or its ODE
-// form MultibodyOde on the per-body path (by-body: the one-body arithmetic,
-// schemes/body_ode.hpp) or on the KKT path (kkt: the general mechanism
-// solve). Rows carry "through_system". Callgrind counts of both forms:
-// docs/benchmarks.md, "The ODE form through the multibody model".
+// --through-system by-body | kkt (sweep, --mode unrecorded only): which path
+// of the ODE form MultibodyOde the unrecorded runs take (every one-body
+// scene runs as a system of one pivoted body, one_body_system): by-body (the
+// default, what solve takes: the one-body arithmetic, schemes/body_ode.hpp)
+// or kkt (the general mechanism solve); IDA runs the same DAE either way.
+// Rows carry "through_system" when the flag is given. Callgrind counts of
+// both forms: docs/benchmarks.md, "The ODE form through the multibody model".
 //
 // I is solver.integrator (ida, cvode-adams, cvode-bdf, arkode-erk; default:
 // the scene's) and M solver.erk_method (fehlberg78, verner65, dopri5): the
@@ -58,11 +58,8 @@
 
 #include "machine_info.hpp"
 #include "rigidae/app/compare.hpp"
-#include "rigidae/app/run_integrator.hpp"
 #include "rigidae/app/solve.hpp"
 #include "rigidae/core/error.hpp"
-#include "rigidae/dae/dae_system.hpp"
-#include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/model/one_body_system.hpp"
@@ -216,26 +213,9 @@ struct RunSample {
   Vec4 q_end = Vec4::Constant(kNaN);
 };
 
-RunSample run_unrecorded(const Scene& s) {
-  auto dae = assemble_dae(s);
-  FinalStateSink sink;
-  RunSample r;
-  IntegratorRun run(*dae, s);
-  const auto t0 = std::chrono::steady_clock::now();
-  try {
-    r.run = run.run(sink);
-  } catch (const SolverError& e) {
-    r.run.status = RunStatus::Failed;
-    r.run.message = e.what();
-  }
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (r.run.status == RunStatus::Success && sink.y_last.size() > 0)
-    r.q_end = run.chart_state().representation().orientation(dae->coordinates(sink.y_last.data()));  // in the chart it ended in
-  return r;
-}
-
-// The same integration through the multibody model: the scene as one
-// pivoted body; the ODE form on its per-body path or on the KKT path.
+// The integration without recording, as every scene runs: the scene as a
+// system of one pivoted body; the ODE form on its per-body path (what solve
+// takes) or on the KKT path.
 RunSample run_through_system(const Scene& s, bool by_body) {
   multibody::MultibodyProblem problem(one_body_system(s));
   const bool ode_form = find_integrator(s.solver.integrator).is_ode;
@@ -329,7 +309,7 @@ json measure(const Scene& s, const Combination& c, const Options& o, const std::
   if (o.mode != "recorded") {
     auto [r, walls] = repeated(
         [&] {
-          return o.through_system.empty() ? run_unrecorded(s) : run_through_system(s, o.through_system == "by-body");
+          return run_through_system(s, o.through_system != "kkt");
         },
         o.repeats, o.budget_s);
     if (!o.through_system.empty()) row["through_system"] = o.through_system;
@@ -402,23 +382,24 @@ int cmd_cost(Options o) {
     row["rhs_evals_per_step"] = row["rhs_evals"].get<double>() / steps;
     row["residual_evals_per_step"] = row["residual_evals"].get<double>() / steps;
 
-    // One residual evaluation at the consistent initial state, timed in batches.
-    auto dae = assemble_dae(s);
-    Eigen::VectorXd y, yp, F(dae->size());
-    dae->consistent_state(dae->start_chart(), s.time.start, s.R0_WB, s.omega0_B, y, yp);
+    // One residual evaluation at the consistent initial state, timed in
+    // batches: the scene as every scene runs (a system of one pivoted body).
+    multibody::MultibodyProblem problem(one_body_system(s));
+    Eigen::VectorXd y, yp, F(problem.size());
+    problem.initial_state(s.time.start, y, yp);
     std::vector<double> per_call;
     double sink = 0.0;
     for (int b = 0; b < 7; ++b) {
       const auto t0 = std::chrono::steady_clock::now();
       for (long k = 0; k < o.calls; ++k) {
-        dae->residual(dae->start_chart(), s.time.start, y.data(), yp.data(), F.data());
+        problem.residual(s.time.start, y.data(), yp.data(), F.data());
         sink += F[0];
       }
       per_call.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() /
                          static_cast<double>(o.calls));
     }
     row["ns_per_residual"] = 1e9 * bench::median(per_call);
-    row["n_unknowns"] = dae->size();
+    row["n_unknowns"] = problem.size();
     if (!std::isfinite(sink)) row["warning"] = "non-finite residual at the start";
     print(row);
   }

@@ -18,8 +18,8 @@
 #include <string>
 
 #include "rigidae/core/error.hpp"
-#include "rigidae/dae/dae_system.hpp"
 #include "rigidae/io/scene_loader.hpp"
+#include "rigidae/model/one_body_system.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
 #include "fuzz_check.hpp"
 
@@ -108,17 +108,17 @@ void check_multibody(const Scene& s) {
 }
 
 void check_start(const Scene& s) {
-  std::unique_ptr<DaeSystem> dae;
+  // The scene as every scene runs: a system of one pivoted body.
+  std::unique_ptr<multibody::MultibodyProblem> problem;
   try {
-    dae = assemble_dae(s);
+    problem = std::make_unique<multibody::MultibodyProblem>(one_body_system(s));
   } catch (const InputError&) {
     return;  // a formulation that does not apply to this scene, reported as bad input
   }
-  Eigen::VectorXd y, yp, F(dae->size());
-  const int chart = dae->start_chart();
-  dae->consistent_state(chart, s.time.start, s.R0_WB, s.omega0_B, y, yp);
+  Eigen::VectorXd y, yp, F(problem->size());
+  problem->initial_state(s.time.start, y, yp);
   require(y.allFinite() && yp.allFinite(), "a start that is not finite");
-  dae->residual(chart, s.time.start, y.data(), yp.data(), F.data());
+  problem->residual(s.time.start, y.data(), yp.data(), F.data());
   require(F.allFinite(), "a residual at the start that is not finite");
 }
 

@@ -7,7 +7,8 @@ ALLOWED[M]; SUNDIALS headers only in solver. Run with the source tree as
 the argument (default: this script's parent folder). Exit 0 when clean, 1
 with one line per violation (file:line: what and the rule), 2 when a
 module is missing from the table (add it, with its place in the layers, to
-ALLOWED and docs/architecture.md).
+ALLOWED and docs/architecture.md) or the table names a module with no
+folder (a deleted module: remove its row, and its name from the other rows).
 
 Usage: /usr/bin/python3 tools/check_layers.py [SOURCE_DIR]
 """
@@ -24,20 +25,18 @@ ALLOWED = {
     "coords": {"core", "so3", "model"},
     "schemes": {"core", "so3", "model", "coords"},
     "solver": {"core"},
-    "dae": {"core", "so3", "model", "coords", "schemes", "solver"},
     "multibody": {"core", "so3", "model", "coords", "schemes", "solver"},
-    "record": {"core", "so3", "model", "coords", "schemes", "dae", "multibody", "solver", "io"},
+    "record": {"core", "so3", "model", "coords", "schemes", "multibody", "solver", "io"},
     "settings": {"core", "so3", "model", "coords", "schemes", "solver"},
     "io": {"core", "so3", "model", "exact", "schemes", "settings"},
-    "app": {"core", "so3", "model", "exact", "coords", "schemes", "solver", "dae", "multibody", "record", "io",
+    "app": {"core", "so3", "model", "exact", "coords", "schemes", "solver", "multibody", "record", "io",
             "settings"},
-    "cli": {"core", "so3", "model", "exact", "coords", "schemes", "solver", "dae", "multibody", "record", "io",
+    "cli": {"core", "so3", "model", "exact", "coords", "schemes", "solver", "multibody", "record", "io",
             "settings", "app"},
 }
 # Of solver, the modules above it see only the problem interface and the
-# driver's API; dae and multibody (which implement the problem) only the interface.
+# driver's API; multibody (which implements the problem) only the interface.
 SOLVER_HEADERS_FOR = {
-    "dae": {"problem.hpp", "ode_problem.hpp"},
     "settings": {"integrators.hpp"},
     "multibody": {"problem.hpp", "ode_problem.hpp"},
 }
@@ -60,6 +59,14 @@ def main():
     root = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     problems, unknown = [], set()
     checked = 0
+    present = {module for module, _ in modules(root)}
+    stale = sorted(set(ALLOWED) - present)
+    stale_names = sorted({m for allowed in ALLOWED.values() for m in allowed} - present)
+    if stale or stale_names:
+        print(f"check_layers: module(s) in the layer table with no folder under src/ or include/rigidae/: "
+              f"{', '.join(sorted(set(stale) | set(stale_names)))}; remove them from ALLOWED (and "
+              "SOLVER_HEADERS_FOR) in tools/check_layers.py and from docs/architecture.md")
+        return 2
     for module, folder in modules(root):
         if module not in ALLOWED:
             unknown.add(module)

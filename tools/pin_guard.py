@@ -9,7 +9,15 @@ to be right (it was first run on commit 4f13209, before the core was split
 for many bodies); the guard then holds every later build to those numbers.
 
     /usr/bin/python3 tools/pin_guard.py [--cli build/rigidae]
+    /usr/bin/python3 tools/pin_guard.py --ode [--cli build/rigidae]
     /usr/bin/python3 tools/pin_guard.py --mechanisms [--cli build/rigidae]
+
+--ode pins single-body runs on the ODE integrators (CVODE BDF and Adams,
+ARKODE's explicit tables) into the "ode_runs" list of tests/guard/pinned.json
+(its own "ode_commit"; the IDA runs are left as they are): the heavy top,
+the free bodies and sleeping_top over a spread of coordinates x equations x
+{index1, projection}, each short. First run on commit 5df9816, before the
+one-body ODE form (SingleBodyOde) was deleted for the multibody one.
 
 --mechanisms pins the shipped mechanism scenes (schema_version 2) instead,
 into tests/guard/pinned_mechanisms.json: each scene's default run and a
@@ -45,6 +53,45 @@ def runs():
                        ["--coordinates", coords, "--equations", eq, "--scheme", s])
     for scene in sorted((ROOT / "problems").glob("*.toml")):
         yield f"{scene.stem}/default", f"problems/{scene.name}", []
+
+
+# Single-body runs on the ODE integrators: every integrator, every
+# coordinate set and both forms at least once, projection and index1, chart
+# switches (Euler angles on the heavy top; sleeping_top starts within its
+# chart's margin), each stopped early enough for CI.
+def ode_args(integrator, coords, eq, scheme=None, t_end=None):
+    args = ["--integrator", integrator, "--coordinates", coords, "--equations", eq]
+    if scheme:
+        args += ["--scheme", scheme]
+    if t_end:
+        args += ["--t-end", t_end]
+    return args
+
+
+ODE_RUNS = [
+    ("heavy_top", ode_args("cvode-bdf", "quaternion", "euler", "index1", "0.5")),
+    ("heavy_top", ode_args("cvode-bdf", "linear", "lagrange", "projection", "0.5")),
+    ("heavy_top", ode_args("cvode-adams", "quaternion", "lagrange", "projection", "0.5")),
+    ("heavy_top", ode_args("cvode-adams", "euler", "euler", "index1", "1")),
+    ("heavy_top", ode_args("arkode-erk", "linear", "euler", "projection", "0.5")),
+    ("heavy_top", ode_args("arkode-erk", "euler", "lagrange", "index1", "1")),
+    ("dzhanibekov", ode_args("cvode-bdf", "euler", "lagrange", "index1", "2")),
+    ("dzhanibekov", ode_args("cvode-adams", "linear", "euler", "index1", "2")),
+    ("free_body", ode_args("arkode-erk", "quaternion", "euler", "projection", "2")),
+    ("sleeping_top", ode_args("cvode-adams", "euler", "lagrange", "index1", "0.5")),
+]
+
+
+def ode_runs():
+    """(name, scene, extra arguments) of every pinned single-body ODE run."""
+    for stem, extra in ODE_RUNS:
+        values = dict(zip(extra[::2], extra[1::2]))
+        name = "ode/" + stem + "/" + "/".join(values[k] for k in
+                                              ["--integrator", "--coordinates", "--equations", "--scheme"]
+                                              if k in values)
+        if "--t-end" in values:
+            name += f" to t = {values['--t-end']}"
+        yield name, f"problems/{stem}.toml", extra
 
 
 # Mechanism runs: every shipped schema-2 scene in its own formulation, then
@@ -112,10 +159,31 @@ def pin_mechanisms(cli, out_path):
     pathlib.Path(out_path).write_text(json.dumps(pinned, indent=1) + "\n")
 
 
+def pin_single_body(cli, run_list):
+    """The pinned record of each single-body run: counters, chart switches, final state."""
+    out_runs = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, scene, extra in run_list:
+            out = pathlib.Path(tmp) / name.replace("/", "-").replace(" ", "_")
+            cmd = [cli, "solve", scene, "--quiet", "--out", str(out)] + extra
+            subprocess.run(cmd, cwd=ROOT, check=True)
+            s = json.loads((out / "summary.json").read_text())
+            out_runs.append({
+                "name": name, "scene": scene, "args": extra, "status": s["status"],
+                "counters": {k: s["counters"][k] for k in COUNTERS},
+                "chart_switch_count": s["chart_switch_count"],
+                "t": s["final"]["t"], "q_WB": s["final"]["q_WB"], "omega_B": s["final"]["omega_B"],
+            })
+            print(name, s["counters"]["steps"], file=sys.stderr)
+    return out_runs
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--cli", default=str(ROOT / "build" / "rigidae"))
     ap.add_argument("--out", default=str(ROOT / "tests" / "guard" / "pinned.json"))
+    ap.add_argument("--ode", action="store_true",
+                    help="pin the single-body ODE runs into pinned.json's ode_runs (IDA's runs untouched)")
     ap.add_argument("--mechanisms", action="store_true",
                     help="pin the mechanism scenes into tests/guard/pinned_mechanisms.json")
     args = ap.parse_args()
@@ -125,22 +193,18 @@ def main():
         return
     commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
                             capture_output=True, text=True).stdout.strip()
-    pinned = {"commit": commit, "runs": []}
-    with tempfile.TemporaryDirectory() as tmp:
-        for name, scene, extra in runs():
-            out = pathlib.Path(tmp) / name.replace("/", "-")
-            cmd = [args.cli, "solve", scene, "--quiet", "--out", str(out)] + extra
-            subprocess.run(cmd, cwd=ROOT, check=True)
-            s = json.loads((out / "summary.json").read_text())
-            pinned["runs"].append({
-                "name": name, "scene": scene, "args": extra, "status": s["status"],
-                "counters": {k: s["counters"][k] for k in COUNTERS},
-                "chart_switch_count": s["chart_switch_count"],
-                "t": s["final"]["t"], "q_WB": s["final"]["q_WB"], "omega_B": s["final"]["omega_B"],
-            })
-            print(name, s["counters"]["steps"], file=sys.stderr)
-    pathlib.Path(args.out).write_text(json.dumps(pinned, indent=1) + "\n")
-
+    path = pathlib.Path(args.out)
+    previous = json.loads(path.read_text()) if path.exists() else {}
+    if args.ode:
+        pinned = dict(previous)
+        pinned["ode_commit"], pinned["ode_runs"] = commit, pin_single_body(args.cli, ode_runs())
+    else:
+        # The ODE runs keep their own pin (--ode).
+        pinned = {"commit": commit, "runs": pin_single_body(args.cli, runs())}
+        for key in ["ode_commit", "ode_runs"]:
+            if key in previous:
+                pinned[key] = previous[key]
+    path.write_text(json.dumps(pinned, indent=1) + "\n")
 
 if __name__ == "__main__":
     main()

@@ -15,7 +15,6 @@
 #include <optional>
 #include <nlohmann/json.hpp>
 
-#include "rigidae/app/run_integrator.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/model/one_body_system.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"

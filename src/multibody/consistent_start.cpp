@@ -123,7 +123,7 @@ void solve_saddle(const Sparse& M, const Sparse& G, const Eigen::VectorXd& r1, c
 void MultibodyProblem::project(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
   if (spec_.joints.empty()) {
     // Bodies not joined to one another: each body's own constraints only,
-    // projected as the one-body model does (dae/dae_system.cpp): q by the
+    // projected as the (deleted) one-body model did: q by the
     // representation's projection (unit quaternion, polar factor), then a
     // Force-kind body's v onto G v = 0 in its kinetic energy.
     for (const BodyModel& b : bodies_) {
@@ -457,8 +457,8 @@ void MultibodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
 std::pair<double, double> MultibodyProblem::projection_drift(double t, const double* y) {
   evaluate(t, y, 2);
   double pos = 0.0, vel = 0.0;
-  // Each body's own constraints, measured as the one-body model does
-  // (DaeSystem::drift), whether or not the scheme writes rows for them (the
+  // Each body's own constraints, measured as the one-body model did
+  // (schemes::block_drift), whether or not the scheme writes rows for them (the
   // projection scheme in the Euler form writes none: the plain ODE).
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const BodyModel& b = bodies_[i];

@@ -246,7 +246,7 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
   pattern_ = sink_->finish_recording();
 }
 
-// As the one-body model at its start (SingleBodyProblem::initial_state): a
+// As the (deleted) one-body model did at its start: a
 // body whose Euler-angle chart is within the switching margin at its start
 // pose starts in the most regular chart, its coordinates and velocities
 // written there from the physical start (angle rates through the near-
@@ -400,7 +400,7 @@ void MultibodyProblem::differentiate_block(int j, const double* y, const double*
 }
 
 // A body's own constraint block (the quaternion norm, R^T R = I) as the
-// one-body schemes write it (body_rows.hpp): its multiplier rows from the
+// one-body model wrote it (body_rows.hpp): its multiplier rows from the
 // body's terms, and G^T lambda, Phi_q^T mu added to its rotation rows.
 void MultibodyProblem::internal_block_rows(const ConstraintBlock& blk, const Eigen::Map<const Eigen::VectorXd>& y,
                                            const Eigen::Map<const Eigen::VectorXd>& yp,
@@ -539,8 +539,8 @@ void MultibodyProblem::assemble_jacobian(double t, double cj, const double* y, c
       const int Q = bodies_[bi].q_group, V = bodies_[bi].v_group;
       const auto rows = [&](int group, const LevelWeights& w) {
         if (group < 0) return;
-        // Levels in the order the rows sum them (body_rows.hpp and the
-        // one-body schemes' jacobian_rows.hpp): acceleration, velocity, position.
+        // Levels in the order the rows sum them (body_rows.hpp's block_rows):
+        // acceleration, velocity, position.
         if (force)
           Aq = w.acceleration * (e.dGa_q[x] + e.dc_q[x]) + w.velocity * e.dGv_q[x] + w.position * e.phi_q[x];
         else

@@ -8,6 +8,13 @@
 // orientation within 1e-12 rad of the pinned one. A change that moves these
 // numbers changes what users see and must say why.
 //
+// pinned.json's "ode_runs" (commit 5df9816, `tools/pin_guard.py --ode`) pin
+// ten single-body runs on CVODE (BDF, Adams) and ARKODE (explicit tables)
+// the same way: the heavy top, the free bodies and sleeping_top over a
+// spread of coordinates x equations x {index1, projection}, recorded while
+// the one-body ODE form (SingleBodyOde) still existed beside the multibody
+// one, so that deleting it stays guarded.
+//
 // tests/guard/pinned_mechanisms.json does the same for the shipped mechanism
 // scenes (their default runs and a spread of combinations, commit 84ddc6d,
 // `tools/pin_guard.py --mechanisms`): IDA's counters, and every body's final
@@ -32,10 +39,10 @@ namespace {
 
 using nlohmann::json;
 
-json pinned_runs(const char* file = "pinned.json") {
+json pinned_runs(const char* file = "pinned.json", const char* list = "runs") {
   std::ifstream in(std::string(RIGIDAE_SOURCE_DIR) + "/tests/guard/" + file);
   REQUIRE(in.good());
-  return json::parse(in)["runs"];
+  return json::parse(in)[list];
 }
 
 // Angle (rad) between the rotations of two unit quaternions, either sign.
@@ -138,6 +145,18 @@ TEST_CASE("guard: the 26 combinations on the heavy top keep today's counters and
       ++n;
     }
   CHECK(n == 26);
+}
+
+TEST_CASE("guard: single-body runs on CVODE and ARKODE keep today's counters and final state" * doctest::test_suite("slow")) {
+  int n = 0;
+  std::map<std::string, int> integrators;
+  for (const auto& pin : pinned_runs("pinned.json", "ode_runs")) {
+    check_run(pin);
+    ++integrators[pin["args"][1].get<std::string>()];
+    ++n;
+  }
+  CHECK(n == 10);
+  CHECK(integrators.size() == 3);  // cvode-bdf, cvode-adams, arkode-erk
 }
 
 TEST_CASE("guard: every shipped scene keeps today's counters and final state in its own formulation" * doctest::test_suite("slow")) {

@@ -1,8 +1,11 @@
-// Exact iteration matrices: equal to central differences in every
-// representation x scheme, in consistent and inconsistent states and near an
-// Euler-angle chart switch; what they change in a run (same trajectory,
-// fewer residual evaluations); KLU gives the dense trajectory; the hot path
-// allocates nothing.
+// Exact iteration matrices of a one-body scene (as every scene runs: a
+// system of one pivoted body, MultibodyProblem(one_body_system(scene))):
+// equal to central differences in every representation x scheme, in
+// consistent and inconsistent states and near an Euler-angle chart switch;
+// the sparse values are the dense matrix's on the pattern, which holds every
+// nonzero; what they change in a run (same trajectory, fewer residual
+// evaluations); KLU gives the dense trajectory; the hot path allocates
+// nothing.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -11,11 +14,11 @@
 #include <string>
 #include <vector>
 
-#include "rigidae/dae/dae_system.hpp"
-#include "rigidae/dae/single_body_problem.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"
+#include "rigidae/model/one_body_system.hpp"
+#include "rigidae/multibody/multibody_problem.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
 #include "rigidae/so3/rotation.hpp"
@@ -55,17 +58,17 @@ struct MatrixPair {
 // are ~1e-12 of a row's scale where the derivatives vary on a scale of 1,
 // and grow like (d / margin)^4 near an Euler-angle singularity.
 // Near a singularity the step shrinks with `scale` (the margin).
-Eigen::MatrixXd richardson_matrix(const DaeSystem& dae, int chart, double t, double cj, const Eigen::VectorXd& y,
+Eigen::MatrixXd richardson_matrix(multibody::MultibodyProblem& p, double t, double cj, const Eigen::VectorXd& y,
                                   const Eigen::VectorXd& yp, double scale) {
-  const int n = dae.size();
+  const int n = p.size();
   Eigen::MatrixXd J(n, n);
   Eigen::VectorXd Fp(n), Fm(n);
   const auto difference = [&](Eigen::VectorXd& x, int j, double d, bool in_yp) {
     const double xj = x(j);
     x(j) = xj + d;
-    dae.residual(chart, t, in_yp ? y.data() : x.data(), in_yp ? x.data() : yp.data(), Fp.data());
+    REQUIRE(p.residual(t, in_yp ? y.data() : x.data(), in_yp ? x.data() : yp.data(), Fp.data()));
     x(j) = xj - d;
-    dae.residual(chart, t, in_yp ? y.data() : x.data(), in_yp ? x.data() : yp.data(), Fm.data());
+    REQUIRE(p.residual(t, in_yp ? y.data() : x.data(), in_yp ? x.data() : yp.data(), Fm.data()));
     x(j) = xj;
     return Eigen::VectorXd((Fp - Fm) / (2.0 * d));
   };
@@ -79,11 +82,24 @@ Eigen::MatrixXd richardson_matrix(const DaeSystem& dae, int chart, double t, dou
   return J;
 }
 
-MatrixPair both_matrices(const DaeSystem& dae, int chart, double t, double cj, const Eigen::VectorXd& y,
+// The sparse values spread onto an n x n matrix (zero off the pattern).
+Eigen::MatrixXd spread(const SparsityPattern& pattern, const Eigen::VectorXd& values, int n) {
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n, n);
+  for (int c = 0; c < n; ++c)
+    for (std::int64_t k = pattern.col_start[c]; k < pattern.col_start[c + 1]; ++k) M(pattern.rows[k], c) = values(k);
+  return M;
+}
+
+// The exact dense matrix against differences; the sparse values must be the
+// dense matrix's entries on the pattern, bit for bit, and zero off it.
+MatrixPair both_matrices(multibody::MultibodyProblem& p, double t, double cj, const Eigen::VectorXd& y,
                          const Eigen::VectorXd& yp, double scale) {
-  const int n = dae.size();
-  MatrixPair m{Eigen::MatrixXd(n, n), richardson_matrix(dae, chart, t, cj, y, yp, scale)};
-  dae.iteration_matrix(chart, t, cj, y.data(), yp.data(), m.exact.data());
+  const int n = p.size();
+  MatrixPair m{Eigen::MatrixXd(n, n), richardson_matrix(p, t, cj, y, yp, scale)};
+  p.iteration_matrix_dense(t, cj, y.data(), yp.data(), m.exact.data());
+  Eigen::VectorXd values(p.sparsity().nnz());
+  p.iteration_matrix_sparse(t, cj, y.data(), yp.data(), values.data());
+  CHECK((spread(p.sparsity(), values, n) - m.exact).cwiseAbs().maxCoeff() == 0.0);
   return m;
 }
 
@@ -96,11 +112,11 @@ constexpr double kMatrixTolerance = 1e-8;
 // Random states around a consistent start of the asymmetric top: the start
 // itself, then q, v, multipliers, q' and v' moved by up to 0.05, 0.1, 0.15
 // times `scale` (off the manifold and inconsistent), at several cj.
-void check_states(DaeSystem& dae, const Scene& s, std::mt19937& rng, double scale, double& worst) {
+void check_states(multibody::MultibodyProblem& p, std::mt19937& rng, double scale, double& worst) {
   Eigen::VectorXd y0, yp0;
-  dae.consistent_state(dae.start_chart(), 0.0, s.R0_WB, s.omega0_B, y0, yp0);
+  p.initial_state(0.0, y0, yp0);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const int n = dae.size();
+  const int n = p.size();
   for (int k = 0; k < 4; ++k) {
     Eigen::VectorXd y = y0, yp = yp0;
     if (k > 0) {
@@ -113,7 +129,7 @@ void check_states(DaeSystem& dae, const Scene& s, std::mt19937& rng, double scal
     for (const double cj : {0.0, 3.7, 2.5e3}) {
       CAPTURE(k);
       CAPTURE(cj);
-      const MatrixPair m = both_matrices(dae, dae.start_chart(), 0.3, cj, y, yp, scale);
+      const MatrixPair m = both_matrices(p, 0.3, cj, y, yp, scale);
       const double d = row_relative_difference(m.exact, m.central);
       worst = std::max(worst, d);
       CHECK(d < kMatrixTolerance);
@@ -124,15 +140,13 @@ void check_states(DaeSystem& dae, const Scene& s, std::mt19937& rng, double scal
 // Records orientation (as a quaternion) on the output grid.
 class OrientationSink final : public StepSink {
  public:
-  explicit OrientationSink(const SingleBodyProblem& problem) : problem_(problem) {}
+  explicit OrientationSink(const multibody::MultibodyProblem& problem) : problem_(problem) {}
   void on_step(double, double, int, const Eigen::VectorXd&) override {}
-  void on_output(double, const Eigen::VectorXd& y) override {
-    q_.push_back(problem_.representation().orientation(problem_.system().coordinates(y.data())));
-  }
+  void on_output(double, const Eigen::VectorXd& y) override { q_.push_back(problem_.body_orientation(0, y.data())); }
   const std::vector<Vec4>& orientations() const { return q_; }
 
  private:
-  const SingleBodyProblem& problem_;
+  const multibody::MultibodyProblem& problem_;
   std::vector<Vec4> q_;
 };
 
@@ -148,8 +162,8 @@ struct Run {
 Run run(Scene s, const std::string& jacobian, const std::string& linear_solver = "dense") {
   s.solver.jacobian = jacobian;
   s.solver.linear_solver = linear_solver;
-  const std::unique_ptr<DaeSystem> dae = assemble_dae(s);
-  SingleBodyProblem problem(*dae, s.formulation.euler, s.R0_WB, s.omega0_B, s.source);
+  // The scene as every scene runs: a system of one pivoted body.
+  multibody::MultibodyProblem problem(one_body_system(s));
   OrientationSink sink(problem);
   Run r;
   r.result = integrate(problem, s.solver, s.time, sink);
@@ -191,16 +205,19 @@ Scene short_heavy_top(Coordinates c, Equations e, const std::string& scheme) {
 TEST_CASE("exact iteration matrix = central differences: every representation and scheme") {
   std::mt19937 rng(20240607);
   double worst = 0.0;
+  int combinations = 0;
   for (Coordinates c : kAllCoordinates)
     for (Equations e : kAllEquations)
       for (const std::string& scheme : scheme_names()) {
         Scene s = test::asymmetric_top_scene(c, e, scheme);
         s.omega0_B *= 20.0;  // rates of the heavy top's size
-        const std::unique_ptr<DaeSystem> dae = assemble_dae(s);
-        CAPTURE(dae->representation().name());
+        multibody::MultibodyProblem p(one_body_system(s));
+        CAPTURE(p.bodies()[0].rep->name());
         CAPTURE(scheme);
-        check_states(*dae, s, rng, 1.0, worst);
+        check_states(p, rng, 1.0, worst);
+        ++combinations;
       }
+  CHECK(combinations == static_cast<int>(kAllCoordinates.size() * 2 * scheme_names().size()));
   MESSAGE("largest row-relative difference: " << worst);
 }
 
@@ -216,26 +233,32 @@ TEST_CASE("exact iteration matrix = central differences: Euler angles near and a
         const bool proper = seq[0] == seq[2];
         const double b = proper ? std::asin(margin) : std::acos(margin);
         s.R0_WB = so3::euler_to_matrix(*s.formulation.euler.sequence, Vec3(0.4, b, -1.1));
-        const std::unique_ptr<DaeSystem> dae = assemble_dae(s);
-        CAPTURE(dae->representation().name());
+        // Below every margin tried: the start stays in the scene's chart.
+        s.formulation.euler.switch_threshold = 0.01;
+        multibody::MultibodyProblem p(one_body_system(s));
+        const Representation& rep = *p.bodies()[0].rep;
+        CAPTURE(rep.name());
         CAPTURE(seq);
         CAPTURE(margin);
+        REQUIRE(rep.chart_name() == seq);
         Eigen::VectorXd y, yp;
-        const int chart = dae->start_chart();
-        dae->consistent_state(chart, 0.0, s.R0_WB, s.omega0_B, y, yp);
-        REQUIRE(dae->representation(chart).chart_margin(dae->coordinates(y.data())) == doctest::Approx(margin));
+        p.initial_state(0.0, y, yp);
+        const multibody::UnknownGroup& qg = p.groups()[p.bodies()[0].q_group];
+        REQUIRE(rep.chart_margin(y.segment(qg.offset, qg.size)) == doctest::Approx(margin));
         // Moves and difference steps in proportion to the margin.
-        check_states(*dae, s, rng, margin, worst);
+        check_states(p, rng, margin, worst);
 
-        // Switch to the most regular chart, then the matrices again, there.
-        const Mat3 R_before = dae->representation(chart).placement(dae->coordinates(y.data()));
-        const int other = dae->change_chart(chart, 0.0, y, yp);
-        REQUIRE(other != chart);
-        CHECK(dae->representation(other).chart_name() != dae->representation(chart).chart_name());
+        // Across the switch: above every margin tried, the start is written
+        // in the most regular chart; the matrices again, there.
+        s.formulation.euler.switch_threshold = 0.99;
+        multibody::MultibodyProblem other(one_body_system(s));
+        Eigen::VectorXd y2, yp2;
+        other.initial_state(0.0, y2, yp2);
+        CHECK(other.bodies()[0].rep->chart_name() != seq);
         // The same orientation in the new chart.
-        CHECK((dae->representation(other).placement(dae->coordinates(y.data())) - R_before).norm() < 1e-12);
+        CHECK(so3::quaternion_distance(other.body_orientation(0, y2.data()), p.body_orientation(0, y.data())) < 1e-12);
         for (const double cj : {0.0, 40.0}) {
-          const MatrixPair m = both_matrices(*dae, other, 0.0, cj, y, yp, margin);
+          const MatrixPair m = both_matrices(other, 0.0, cj, y2, yp2, margin);
           const double d = row_relative_difference(m.exact, m.central);
           worst = std::max(worst, d);
           CHECK(d < kMatrixTolerance);
@@ -249,20 +272,19 @@ TEST_CASE("residual and exact iteration matrix allocate nothing") {
     for (Equations e : kAllEquations)
       for (const std::string& scheme : scheme_names()) {
         const Scene s = test::asymmetric_top_scene(c, e, scheme);
-        const std::unique_ptr<DaeSystem> dae = assemble_dae(s);
+        multibody::MultibodyProblem p(one_body_system(s));
         Eigen::VectorXd y, yp;
-        const int chart = dae->start_chart();
-        dae->consistent_state(chart, 0.0, s.R0_WB, s.omega0_B, y, yp);
-        const int n = dae->size();
+        p.initial_state(0.0, y, yp);
+        const int n = p.size();
         Eigen::VectorXd F(n);
         Eigen::MatrixXd J(n, n);
-        Eigen::VectorXd values(dae->sparsity().nnz());
+        Eigen::VectorXd values(p.sparsity().nnz());
         test::start_counting_allocations();
-        dae->residual(chart, 0.1, y.data(), yp.data(), F.data());
-        dae->iteration_matrix(chart, 0.1, 50.0, y.data(), yp.data(), J.data());
-        dae->iteration_matrix_sparse(chart, 0.1, 50.0, y.data(), yp.data(), values.data());
+        p.residual(0.1, y.data(), yp.data(), F.data());
+        p.iteration_matrix_dense(0.1, 50.0, y.data(), yp.data(), J.data());
+        p.iteration_matrix_sparse(0.1, 50.0, y.data(), yp.data(), values.data());
         const long allocations = test::stop_counting_allocations();
-        CAPTURE(dae->representation().name());
+        CAPTURE(p.bodies()[0].rep->name());
         CAPTURE(scheme);
         CHECK(allocations == 0);
         // The counter does see allocations (so that 0 means something).
@@ -272,8 +294,6 @@ TEST_CASE("residual and exact iteration matrix allocate nothing") {
       }
 }
 
-// Over the 26 combinations (coordinates without constraints once per form:
-// every scheme is the same ODE for them) on a tenth of a second of the heavy top at 1e-8.
 TEST_CASE("exact Jacobians: the trajectory of central differences, with fewer residual evaluations per step") {
   long steps[2] = {0, 0}, evals[2] = {0, 0};  // central, exact
   for (Coordinates c : kAllCoordinates)
@@ -338,19 +358,21 @@ TEST_CASE("the sparse pattern holds every nonzero of the exact iteration matrix"
     for (Equations e : kAllEquations)
       for (const std::string& scheme : scheme_names()) {
         const Scene s = test::asymmetric_top_scene(c, e, scheme);
-        const std::unique_ptr<DaeSystem> dae = assemble_dae(s);
-        const int n = dae->size();
+        multibody::MultibodyProblem p(one_body_system(s));
+        const int n = p.size();
         Eigen::VectorXd y, yp;
-        const int chart = dae->start_chart();
-        dae->consistent_state(chart, 0.0, s.R0_WB, s.omega0_B, y, yp);
+        p.initial_state(0.0, y, yp);
         for (int i = 0; i < n; ++i) y(i) += 0.1 * u(rng), yp(i) += 0.1 * u(rng);
-        const Eigen::MatrixXd J = richardson_matrix(*dae, chart, 0.0, 7.0, y, yp, 1.0);
-        CAPTURE(dae->representation().name());
+        const Eigen::MatrixXd J = richardson_matrix(p, 0.0, 7.0, y, yp, 1.0);
+        CAPTURE(p.bodies()[0].rep->name());
         CAPTURE(scheme);
+        // In the pattern: 1 where an entry may be nonzero.
+        const Eigen::MatrixXd in_pattern =
+            spread(p.sparsity(), Eigen::VectorXd::Ones(p.sparsity().nnz()), n);
         int outside = 0;
         for (int r = 0; r < n; ++r)
           for (int col = 0; col < n; ++col)
-            if (!dae->structurally_nonzero(r, col) && J(r, col) != 0.0) ++outside;
+            if (in_pattern(r, col) == 0.0 && J(r, col) != 0.0) ++outside;
         CHECK(outside == 0);
       }
 }

@@ -12,8 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "rigidae/dae/dae_system.hpp"
-#include "rigidae/dae/single_body_problem.hpp"
+#include "rigidae/model/one_body_system.hpp"
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
 #include "rigidae/schemes/scheme.hpp"
@@ -61,11 +60,8 @@ TEST_CASE("multibody run: free body + spherical joint = the pivoted heavy top, e
   Scene pivoted = test::heavy_top_scene(Coordinates::Quaternion, Equations::Euler, "ggl");
   pivoted.time = {0.0, 0.2, 0.01};
   pivoted.solver.rtol = pivoted.solver.atol = 1e-12;
-  const std::unique_ptr<DaeSystem> dae = assemble_dae(pivoted);
-  SingleBodyProblem single(*dae, pivoted.formulation.euler, pivoted.R0_WB, pivoted.omega0_B, pivoted.source);
-  auto ref = make_recorder([&](const Eigen::VectorXd& y) {
-    return Vec4(dae->representation().orientation(dae->coordinates(y.data())));
-  });
+  MultibodyProblem single(one_body_system(pivoted));  // the schema-1 top: a body pivoted at the fixed point
+  auto ref = make_recorder([&](const Eigen::VectorXd& y) { return single.body_orientation(0, y.data()); });
   REQUIRE(integrate(single, pivoted.solver, pivoted.time, ref).status == RunStatus::Success);
   double worst_all = 0.0;
   for (Coordinates c : kCoordinates)

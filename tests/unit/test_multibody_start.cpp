@@ -8,7 +8,7 @@
 #include <string>
 
 #include "rigidae/core/error.hpp"
-#include "rigidae/dae/dae_system.hpp"
+#include "rigidae/model/one_body_system.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "test_multibody_scenes.hpp"
@@ -72,12 +72,15 @@ TEST_CASE("multibody heavy top: the start's acceleration is the pivoted model's,
       const Vec3 a_c = yp.segment<3>(vo);
       // The pivoted top (today's model): omega' at the start, then
       // a_c = R (omega' x c + omega x (omega x c)) with R = I, c = (0, 1, 0).
+      // The schema-1 top, one body pivoted at the fixed point (one_body_system);
+      // quaternions in the Euler form: v = omega_B.
       const Scene top = test::heavy_top_scene(Coordinates::Quaternion, Equations::Euler, "ggl");
-      const std::unique_ptr<DaeSystem> dae = assemble_dae(top);
+      MultibodyProblem pivoted(one_body_system(top));
       Eigen::VectorXd y1, yp1;
-      // A quaternion has one chart (number 0).
-      dae->consistent_state(0, 0.0, top.R0_WB, top.omega0_B, y1, yp1);
-      const Vec3 w = top.omega0_B, wdot = yp1.segment<3>(dae->layout().v_offset()), cB(0, 1, 0);
+      pivoted.initial_state(0.0, y1, yp1);
+      const multibody::UnknownGroup& vg = pivoted.groups()[pivoted.bodies()[0].v_group];
+      REQUIRE(vg.size == 3);
+      const Vec3 w = top.omega0_B, wdot = yp1.segment<3>(vg.offset), cB(0, 1, 0);
       const Vec3 a_pivoted = wdot.cross(cB) + w.cross(w.cross(cB));
       CHECK((a_c - a_pivoted).norm() < 1e-9 * a_pivoted.norm());
       const multibody::JointReaction r = p.joint_reaction(0, y.data());

@@ -1,4 +1,6 @@
-// The ODE form of the single body on CVODE (Adams, BDF) and ARKODE (ERK):
+// The ODE form of the single body on CVODE (Adams, BDF) and ARKODE (ERK),
+// the scene run as every scene runs (a one-body system, MultibodyOde, through
+// app's run_multibody; its state read through OneBodyView):
 // against the closed forms (free body, Lagrange top) in every
 // representation x equation form, the error falls with rtol, projection
 // keeps the invariants at round-off, and the integrator/scheme table
@@ -9,11 +11,12 @@
 #include <string>
 #include <vector>
 
+#include "app/solve_multibody.hpp"
 #include "rigidae/core/error.hpp"
-#include "rigidae/dae/dae_system.hpp"
-#include "rigidae/dae/single_body_ode.hpp"
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"
+#include "rigidae/model/one_body_system.hpp"
+#include "rigidae/multibody/one_body_view.hpp"
 #include "rigidae/so3/rotation.hpp"
 #include "rigidae/solver/integrators.hpp"
 #include "rigidae/solver/ode_driver.hpp"
@@ -68,18 +71,21 @@ Scene scene_for(const std::string& file, Coordinates c, Equations e, const std::
   return s;
 }
 
-Outcome run(const Scene& s, const std::string& integrator, const std::string& erk = "fehlberg78") {
-  auto dae = assemble_dae(s);
-  SingleBodyOde ode(*dae, s);
+// The scene on `integrator` as solve runs it: one_body_system(s) on the ODE form.
+Outcome run(const Scene& scene, const std::string& integrator, const std::string& erk = "fehlberg78") {
+  Scene s = scene;
+  s.solver.integrator = integrator;
+  s.solver.erk_method = erk;
+  multibody::MultibodyProblem system(one_body_system(s));
+  const OneBodyView view(system, s);
   Outcome o;
-  const ProjectionPolicy p = dae->scheme().projection();
-  o.run = integrate_ode(ode, s.solver, s.time, {integrator, erk, {p.enabled, p.every_step, p.threshold}}, o.sink);
+  o.run = run_multibody(system, s, o.sink);
   if (o.run.status == RunStatus::Success) {
     std::string why;
     const auto exact = exact::make_exact_solution(s, &why);
     REQUIRE(exact);
     // In the chart the run ended in (Euler angles may have switched).
-    const Vec4 q = ode.representation().orientation(dae->coordinates(o.sink.y_last.data()));
+    const Vec4 q = view.representation().orientation(view.coordinates(o.sink.y_last.data()));
     o.error = so3::quaternion_distance(q, so3::matrix_to_quaternion(exact->at(o.sink.t_last).R_WB));
   }
   return o;
@@ -117,12 +123,11 @@ TEST_CASE("ODE integrators: a sink that keeps only the last output gets the star
   s.time.output_step = 0.05;  // ten grid points after the start
   for (const std::string integrator : {"arkode-erk", "cvode-adams"}) {
     CAPTURE(integrator);
-    auto dae = assemble_dae(s);
-    const ProjectionPolicy p = dae->scheme().projection();
+    s.solver.integrator = integrator;
     Counting all(true), last(false);
-    SingleBodyOde ode_all(*dae, s), ode_last(*dae, s);
-    const RunResult a = integrate_ode(ode_all, s.solver, s.time, {integrator, "fehlberg78", {p.enabled, p.every_step, p.threshold}}, all);
-    const RunResult b = integrate_ode(ode_last, s.solver, s.time, {integrator, "fehlberg78", {p.enabled, p.every_step, p.threshold}}, last);
+    multibody::MultibodyProblem system_all(one_body_system(s)), system_last(one_body_system(s));
+    const RunResult a = run_multibody(system_all, s, all);
+    const RunResult b = run_multibody(system_last, s, last);
     REQUIRE(a.status == RunStatus::Success);
     REQUIRE(b.status == RunStatus::Success);
     CHECK(all.times.size() == 11);  // t = 0, 0.05, ..., 0.5
@@ -192,23 +197,26 @@ TEST_CASE("ODE integrators: projection keeps |q|^2 - 1 and R^T R - I at round-of
         const Outcome o = run(s, integrator);
         REQUIRE(o.run.status == RunStatus::Success);
         CHECK(o.run.counters.projections > 0);
-        auto dae = assemble_dae(s);
-        const int nq = dae->layout().nq;
+        multibody::MultibodyProblem system(one_body_system(s));
+        const OneBodyView view(system, s);
         long checked = 0;
         double worst = 0.0;
         for (std::size_t k = 0; k < o.sink.step_states.size(); ++k) {
           if (!o.sink.step_projected[k]) continue;
           const Eigen::VectorXd& y = o.sink.step_states[k];
+          const VecQ q = view.coordinates(y.data());
           if (c == Coordinates::Quaternion) {
-            worst = std::max(worst, std::abs(y.head(4).squaredNorm() - 1.0));
+            REQUIRE(q.size() == 4);
+            worst = std::max(worst, std::abs(q.squaredNorm() - 1.0));
           } else {
+            REQUIRE(q.size() == 9);
             Mat3 R;
-            for (int i = 0; i < 9; ++i) R(i / 3, i % 3) = y[i];  // either order: R^T R and R R^T both vanish
+            for (int i = 0; i < 9; ++i) R(i / 3, i % 3) = q[i];  // either order: R^T R and R R^T both vanish
             worst = std::max(worst, (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff());
           }
           if (e == Equations::Lagrange) {  // and G v = 0 (velocity level)
-            const ConstraintDrift d = dae->drift(dae->start_chart(), 0.0, y.data());
-            worst = std::max(worst, d.velocity / std::max(1.0, y.segment(nq, dae->layout().nv).norm()));
+            const ConstraintDrift d = view.drift(0.0, y.data());
+            worst = std::max(worst, d.velocity / std::max(1.0, view.velocities(y.data()).norm()));
           }
           ++checked;
         }
@@ -222,7 +230,7 @@ TEST_CASE("ODE integrators: without projection the drift grows, and the integrat
   const Outcome o = run(s, "arkode-erk");
   REQUIRE(o.run.status == RunStatus::Success);
   CHECK(o.run.counters.projections == 0);
-  CHECK(std::abs(o.sink.y_last.head(4).squaredNorm() - 1.0) > 1e-12);
+  CHECK(std::abs(o.sink.y_last.head(4).squaredNorm() - 1.0) > 1e-12);  // a pivoted body: q first
 
   for (const char* i : {"cvode-adams", "cvode-bdf", "arkode-erk"}) {
     CHECK_NOTHROW(check_integrator_scheme(i, "projection"));

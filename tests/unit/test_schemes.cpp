@@ -10,7 +10,9 @@
 
 #include "rigidae/app/compare.hpp"
 #include "rigidae/app/solve.hpp"
-#include "rigidae/dae/dae_system.hpp"
+#include "rigidae/model/one_body_system.hpp"
+#include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/multibody/one_body_view.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/so3/rotation.hpp"
 #include "scratch_dir.hpp"
@@ -38,6 +40,16 @@ Scene heavy_top(Coordinates c, Equations e, const std::string& scheme, double to
 
 const Coordinates kConstrained[] = {Coordinates::Quaternion, Coordinates::Linear};
 
+// Where the pivoted body's q and v start in y (a one-body scene as every scene runs).
+struct BodySlots {
+  int q = 0, nq = 0, v = 0, nv = 0;
+};
+BodySlots slots(const multibody::MultibodyProblem& p) {
+  const multibody::BodyModel& b = p.bodies()[0];
+  return {p.groups()[b.q_group].offset, p.groups()[b.q_group].size, p.groups()[b.v_group].offset,
+          p.groups()[b.v_group].size};
+}
+
 }  // namespace
 
 TEST_CASE("every scheme starts consistently in every representation") {
@@ -46,11 +58,13 @@ TEST_CASE("every scheme starts consistently in every representation") {
       CAPTURE(k.name());
       CAPTURE(scheme);
       Scene s = test::asymmetric_top_scene(k.coordinates, k.equations, scheme);
-      const std::unique_ptr<DaeSystem> dae = assemble_dae(s);
-      Eigen::VectorXd y, yp, F(dae->size());
-      dae->consistent_state(dae->start_chart(), 0.0, s.R0_WB, s.omega0_B, y, yp);
-      dae->residual(dae->start_chart(), 0.0, y.data(), yp.data(), F.data());
+      multibody::MultibodyProblem p(one_body_system(s));
+      Eigen::VectorXd y, yp, F(p.size());
+      p.initial_state(0.0, y, yp);
+      REQUIRE(p.residual(0.0, y.data(), yp.data(), F.data()));
       CHECK(F.cwiseAbs().maxCoeff() < 1e-11);
+      // The start is the scene's physical state.
+      CHECK(so3::quaternion_distance(p.body_orientation(0, y.data()), so3::matrix_to_quaternion(s.R0_WB)) < 1e-14);
     }
 }
 
@@ -155,13 +169,20 @@ TEST_CASE("projection after every step holds the constraint at each restart to r
   CHECK(every.extremes.max_drift_position < 1e-7);
 
   // The projection itself lands on the manifold to round-off.
-  const std::unique_ptr<DaeSystem> dae = assemble_dae(s);
+  multibody::MultibodyProblem p(one_body_system(s));
+  const OneBodyView view(p, s);
+  const BodySlots at = slots(p);
+  REQUIRE(at.nq == 4);
+  REQUIRE(at.nv == 4);
   Eigen::VectorXd y, yp;
-  dae->consistent_state(dae->start_chart(), 0.0, s.R0_WB, s.omega0_B, y, yp);
-  y.head(4) *= 1.001;
-  y.segment(4, 4) += 0.01 * y.head(4);  // radial velocity: off G v = 0
-  dae->project(dae->start_chart(), 0.0, y, yp);
-  const ConstraintDrift d = dae->drift(dae->start_chart(), 0.0, y.data());
+  p.initial_state(0.0, y, yp);
+  y.segment(at.q, 4) *= 1.001;
+  y.segment(at.v, 4) += 0.01 * y.segment(at.q, 4);  // radial velocity: off G v = 0
+  const ConstraintDrift before = view.drift(0.0, y.data());
+  CHECK(before.position > 1e-3);
+  CHECK(before.velocity > 1e-3);
+  p.project(0.0, y, yp);
+  const ConstraintDrift d = view.drift(0.0, y.data());
   CHECK(d.position < 1e-15);
   CHECK(d.velocity < 1e-12);
 }
@@ -169,19 +190,24 @@ TEST_CASE("projection after every step holds the constraint at each restart to r
 TEST_CASE("the linear-coordinate projection is the polar factor and keeps the kinetic energy nearest") {
   Scene s = heavy_top(Coordinates::Linear, Equations::Lagrange, "projection", 1e-8);
   s.R0_WB = so3::axis_angle_to_matrix(Vec3(1, -2, 0.5).normalized(), 1.1);
-  const std::unique_ptr<DaeSystem> dae = assemble_dae(s);
+  multibody::MultibodyProblem p(one_body_system(s));
+  const OneBodyView view(p, s);
+  const BodySlots at = slots(p);
+  REQUIRE(at.nq == 9);
+  REQUIRE(at.nv == 9);
+  REQUIRE(at.v == at.q + 9);
   Eigen::VectorXd y, yp;
-  dae->consistent_state(dae->start_chart(), 0.0, s.R0_WB, s.omega0_B, y, yp);
+  p.initial_state(0.0, y, yp);
   const Eigen::VectorXd exact = y;
   Eigen::VectorXd noise(18);
   for (int i = 0; i < 18; ++i) noise(i) = 1e-4 * std::sin(1.7 * i + 0.3);
-  y.head(18) += noise.cwiseProduct(Eigen::VectorXd::Ones(18) + exact.head(18).cwiseAbs());
-  dae->project(dae->start_chart(), 0.0, y, yp);
-  const ConstraintDrift d = dae->drift(dae->start_chart(), 0.0, y.data());
+  y.segment(at.q, 18) += noise.cwiseProduct(Eigen::VectorXd::Ones(18) + exact.segment(at.q, 18).cwiseAbs());
+  p.project(0.0, y, yp);
+  const ConstraintDrift d = view.drift(0.0, y.data());
   CHECK(d.position < 1e-14);
   CHECK(d.velocity < 1e-10);
   // Back near the exact state: the perturbation's tangential part remains, ~1e-4.
-  CHECK((y.head(9) - exact.head(9)).norm() < 1e-3);
+  CHECK((y.segment(at.q, 9) - exact.segment(at.q, 9)).norm() < 1e-3);
 }
 
 TEST_CASE("every combination agrees with a tight reference as its tolerance promises, or reports failure" * doctest::test_suite("slow")) {

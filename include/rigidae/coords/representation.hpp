@@ -59,7 +59,7 @@ struct TermDerivatives {
 };
 
 // The Euler form as an ODE in one fixed-size call, for the explicit and
-// multistep integrators (dae/single_body_ode.hpp): with x = (q, omega_B),
+// multistep integrators (schemes/body_ode.hpp): with x = (q, omega_B),
 //   q'       = N(q) omega_B
 //   omega_B' = J^-1 (tau(R(q)) - omega_B x J omega_B),   tau = c x (m R(q)^T g)
 // the same function evaluate() and a solve with M = J give, written for one

@@ -50,8 +50,8 @@
 // is singular), the projection onto each body's own manifold and its exact
 // linearisation, the drift as the one-body rule (per body the 2-norms |Phi|,
 // |G v|, the largest over bodies). A one-body scene then integrates bit for
-// bit as the one-body ODE form (dae/single_body_ode.hpp; same steps, same
-// final state: tests/unit/test_body_ode.cpp) at its cost (1.00x to 1.02x
+// bit as the deleted one-body ODE form did (SingleBodyOde; same steps, same
+// final state: tests/guard/pinned.json's ode_runs) at its cost (1.00x to 1.02x
 // its instructions on the heavy top, where the KKT path costs up to 3.2x:
 // docs/benchmarks.md). The right-hand sides of the two paths agree to
 // round-off; their drift rules differ (the KKT path's max norms: drift()).

@@ -340,7 +340,7 @@ class MultibodyProblem final : public DaeProblem {
   // block (a body's own constraints, a joint's kept rows, a driver's row;
   // each row set aside as redundant on its own) the 2-norms |Phi| and |G v|
   // (|Phi_q N v| for a Kinematic block), the largest over blocks. For one
-  // body it is the one-body model's rule (DaeSystem::drift).
+  // body it is the one-body model's rule (schemes::block_drift).
   std::pair<double, double> projection_drift(double t, const double* y);
   // Projects y onto Phi = 0 (Gauss-Newton, least change in the mass metric)
   // and v onto G v = 0, then makes (y, y') consistent.

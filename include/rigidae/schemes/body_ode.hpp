@@ -1,10 +1,10 @@
 #pragma once
 // One body's equations as an ODE x' = f(t, x), x = (q, v), for CVODE and
-// ARKODE: the arithmetic written once, for the one-body ODE form
-// (dae/single_body_ode.hpp) and for the multibody ODE form's bodies when
-// they are not coupled to one another (multibody/multibody_ode.hpp), so that
-// a one-body scene run as a system of one body integrates bit for bit as the
-// one-body model (tests/unit/test_body_ode.cpp).
+// ARKODE: the arithmetic of the deleted one-body ODE form (SingleBodyOde),
+// now the multibody ODE form's for bodies that are not coupled to one
+// another (multibody/multibody_ode.hpp), so that a one-body scene run as a
+// system of one body integrates bit for bit as the one-body model did
+// (tests/guard/pinned.json's ode_runs; tests/unit/test_body_ode.cpp).
 //
 //   q' = N(q) v
 //   Euler form (and Euler angles): M v' = f           (no multipliers: the
@@ -24,7 +24,7 @@
 //
 // Invariants (nc > 0): Phi(q) = 0, and in the Lagrange form G v = 0.
 // drift(): the 2-norms |Phi| and |G v| (|Phi_q N v| in the Euler form), the
-// one-body rule (schemes::block_drift, DaeSystem::drift).
+// one-body rule (schemes::block_drift).
 // project(): q to the nearest point of Phi = 0 (the representation's own:
 // the normalised quaternion, the polar factor of R), then v to G v = 0 in
 // the metric of M. project_error(): its linearisation at x (e_q orthogonally

@@ -60,7 +60,7 @@ using MatRef = Eigen::Ref<Eigen::MatrixXd>;
 // and no constraint row depends on them, so the matrix is the columns of the
 // state (q, v), which every row may touch, and two blocks. Views of a dense
 // n x n matrix or of a sparse matrix's values on that pattern
-// (DaeSystem::sparsity), so a sparse solver gets its values without a dense
+// (the deleted DaeSystem's), so a sparse solver gets its values without a dense
 // copy.
 struct IterationMatrixView {
   MatRef state;   // n x (nq + nv): every row, the columns of q and v
