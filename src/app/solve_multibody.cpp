@@ -73,6 +73,17 @@ class TeeSink final : public StepSink {
   StepSink &first_, &second_;
 };
 
+// What a run reports of its formulation before it starts.
+SolveOutcome outcome_of(const multibody::MultibodyProblem& problem, const Scene& scene) {
+  SolveOutcome o;
+  o.representation = to_string(scene.formulation.coordinates) + "/" + to_string(scene.formulation.equations);
+  o.scheme = problem.scheme().name;
+  o.unknowns = problem.size();
+  o.multipliers_error =
+      multiplier_error_control(scene.solver.integrator, problem.suppress_algebraic_error_test(), o.scheme);
+  return o;
+}
+
 // Singular poses passed (multibody/row_subset.cpp): the branch may have changed.
 void add_singular_pose_warning(const multibody::MultibodyProblem& problem, SolveOutcome& o) {
   if (!problem.singular_poses().empty()) {
@@ -101,12 +112,7 @@ SolveOutcome solve_multibody_with(const Scene& scene, const std::filesystem::pat
 SolveOutcome solve_multibody_in_memory(const Scene& scene, const MultibodySinkAttach& also) {
   check_multibody_integrator(scene);
   multibody::MultibodyProblem problem(scene);
-  SolveOutcome o;
-  o.representation = to_string(scene.formulation.coordinates) + "/" + to_string(scene.formulation.equations);
-  o.scheme = problem.scheme().name;
-  o.unknowns = problem.size();
-  o.multipliers_error =
-      multiplier_error_control(scene.solver.integrator, problem.suppress_algebraic_error_test(), o.scheme);
+  SolveOutcome o = outcome_of(problem, scene);
   StepSink* sink = also(problem);
   MultibodyInvariantMonitor monitor(problem, scene, sink);
   const auto t0 = std::chrono::steady_clock::now();
@@ -152,15 +158,10 @@ SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::pa
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", out_dir.string(), ec.message()));
   multibody::MultibodyProblem problem(scene);
-  SolveOutcome o;
+  SolveOutcome o = outcome_of(problem, scene);
   o.out_dir = out_dir;
-  o.representation = to_string(scene.formulation.coordinates) + "/" + to_string(scene.formulation.equations);
-  o.scheme = problem.scheme().name;
-  o.unknowns = problem.size();
   o.note = fmt::format("{} bodies, {} joints, {} unknowns", problem.bodies().size(), scene.multibody->joints.size(),
                        problem.size());
-  o.multipliers_error =
-      multiplier_error_control(scene.solver.integrator, problem.suppress_algebraic_error_test(), o.scheme);
   MultibodyRecorder recorder(problem, out_dir, scene.output, scene.time, scene.solver.integrator);
   StepSink* extra = also ? also(problem) : nullptr;
   std::optional<TeeSink> tee;

@@ -455,7 +455,7 @@ void MultibodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
 }
 
 std::pair<double, double> MultibodyProblem::projection_drift(double t, const double* y) {
-  evaluate(t, y, 2);
+  evaluate(t, y, 2, /*for_rows=*/true);
   double pos = 0.0, vel = 0.0;
   // Each body's own constraints, measured as the one-body model did
   // (schemes::block_drift), whether or not the scheme writes rows for them (the
@@ -482,7 +482,7 @@ std::pair<double, double> MultibodyProblem::drift(double t, const double* y) {
   // The accuracy monitor and the recorder both ask at every accepted step:
   // the second asks for the same (t, y) and gets the first's answer.
   if (drift_memo_valid_ && t == drift_memo_t_ && std::equal(y, y + n_, drift_memo_y_.data())) return drift_memo_;
-  evaluate(t, y, 2);
+  evaluate(t, y, 2, /*for_rows=*/true);
   double pos = 0.0, vel = 0.0;
   for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) {
     evaluate_block(j, y, nullptr);
