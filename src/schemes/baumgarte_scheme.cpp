@@ -25,7 +25,6 @@ class BaumgarteScheme final : public ConstraintScheme {
   SchemeRows rows() const override {
     return {{true, false, {b_ * b_, 2.0 * a_, 1.0}, {}}, {false, true, {}, {a_, 1.0, 0.0}}};
   }
-  bool suppress_multiplier_error_test() const override { return true; }
   std::vector<SchemeParameter> parameters() const override { return {{"a", a_}, {"b", b_}}; }
   std::string constrained_note(const Representation& rep) const override {
     if (rep.constraint_kind() == ConstraintKind::Kinematic)

@@ -21,7 +21,6 @@ class GglScheme final : public ConstraintScheme {
   SchemeRows rows() const override {
     return {{true, true, {0.0, 1.0, 0.0}, {1.0, 0.0, 0.0}}, {false, true, {}, {1.0, 0.0, 0.0}}};
   }
-  bool suppress_multiplier_error_test() const override { return true; }
 };
 
 }  // namespace

@@ -19,7 +19,6 @@ class Index1Scheme final : public ConstraintScheme {
   std::string name() const override { return "index1"; }
   // Force: lambda rows G v' - gamma. Kinematic: no rows (the ODE).
   SchemeRows rows() const override { return {{true, false, {0.0, 0.0, 1.0}, {}}, {}}; }
-  bool suppress_multiplier_error_test() const override { return true; }
   std::string constrained_note(const Representation& rep) const override {
     if (rep.constraint_kind() == ConstraintKind::Kinematic)
       return "in the Euler form the kinematics keep the constraint: index 1 is the ODE q' = N v, M v' = f, "

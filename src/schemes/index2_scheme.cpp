@@ -18,7 +18,6 @@ class Index2Scheme final : public ConstraintScheme {
   SchemeRows rows() const override {
     return {{true, false, {0.0, 1.0, 0.0}, {}}, {false, true, {}, {0.0, 1.0, 0.0}}};
   }
-  bool suppress_multiplier_error_test() const override { return true; }
   std::string constrained_note(const Representation& rep) const override {
     if (rep.constraint_kind() == ConstraintKind::Kinematic)
       return "in the Euler form the velocity level is d/dt Phi = Phi_q q' = 0, which fixes mu algebraically "

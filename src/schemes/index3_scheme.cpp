@@ -21,7 +21,6 @@ class Index3Scheme final : public ConstraintScheme {
   SchemeRows rows() const override {
     return {{true, false, {1.0, 0.0, 0.0}, {}}, {false, true, {}, {1.0, 0.0, 0.0}}};
   }
-  bool suppress_multiplier_error_test() const override { return true; }
   bool suppress_velocity_error_test(ConstraintKind kind) const override { return kind == ConstraintKind::Force; }
   std::string constrained_note(const Representation& rep) const override {
     if (rep.constraint_kind() == ConstraintKind::Kinematic)

@@ -24,7 +24,6 @@ class ProjectionScheme final : public ConstraintScheme {
   std::string name() const override { return "projection"; }
   // The rows of index1: Force: lambda rows G v' - gamma. Kinematic: no rows.
   SchemeRows rows() const override { return {{true, false, {0.0, 0.0, 1.0}, {}}, {}}; }
-  bool suppress_multiplier_error_test() const override { return true; }
   ProjectionPolicy projection() const override { return policy_; }
   std::vector<SchemeParameter> parameters() const override { return {{"threshold", policy_.threshold}}; }
   std::string constrained_note(const Representation& /*rep*/) const override {

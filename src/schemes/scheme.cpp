@@ -1,72 +1,14 @@
-// What every scheme shares: the layout of its unknowns, the assembler that
-// loops over constraint blocks, the consistent start and the default note.
+// What every scheme shares: the default note, and one body's dense
+// consistent start (body_rows.hpp).
 #include "rigidae/schemes/scheme.hpp"
 
-#include "jacobian_rows.hpp"
 #include "rigidae/schemes/body_rows.hpp"
 
 namespace rigidae {
 
-using schemes::add_block_jacobian;
-using schemes::add_dynamic_jacobian;
-using schemes::add_kinematic_jacobian;
-using schemes::add_constraint_forces;
-using schemes::add_kinematic_multipliers;
-using schemes::block_rows;
-using schemes::dynamic_rows;
-using schemes::kinematic_rows;
-
 std::string ConstraintScheme::note(const Representation& rep) const {
   if (rep.nc() == 0) return "Euler angles have no constraints: scheme '" + name() + "' leaves the ODE as it is";
   return constrained_note(rep);
-}
-
-UnknownLayout ConstraintScheme::layout(const Representation& rep) const {
-  UnknownLayout lay;
-  lay.nq = rep.nq();
-  lay.nv = rep.nv();
-  const KindRows k = rows().of(rep.constraint_kind());
-  if (rep.nc() == 0 || !(k.lambda || k.mu)) return lay;
-  lay.n_lambda = k.lambda ? rep.nc() : 0;
-  lay.n_mu = k.mu ? rep.nc() : 0;
-  ConstraintBlockLayout& blk = lay.blocks[lay.n_blocks++];
-  blk.kind = rep.constraint_kind();
-  blk.nr = rep.nc();
-  blk.rows = k;
-  if (k.lambda) blk.lambda_row = lay.lambda_offset();
-  if (k.mu) blk.mu_row = lay.mu_offset();
-  return lay;
-}
-
-void ConstraintScheme::residual(const StandardTerms& t, const UnknownLayout& lay, const ConstVecRef& y,
-                                const ConstVecRef& yp, VecRef F) const {
-  const auto qp = yp.segment(lay.q_offset(), lay.nq);
-  const auto v = y.segment(lay.v_offset(), lay.nv), vp = yp.segment(lay.v_offset(), lay.nv);
-  kinematic_rows(t, qp, F.segment(lay.q_offset(), lay.nq));
-  if (lay.n_mu > 0) add_kinematic_multipliers(t, y.segment(lay.mu_offset(), lay.n_mu), F.segment(lay.q_offset(), lay.nq));
-  dynamic_rows(t, vp, F.segment(lay.v_offset(), lay.nv));
-  if (lay.n_lambda > 0)
-    add_constraint_forces(t, y.segment(lay.lambda_offset(), lay.n_lambda), F.segment(lay.v_offset(), lay.nv));
-  for (int b = 0; b < lay.n_blocks; ++b) {
-    const ConstraintBlockLayout& blk = lay.blocks[b];
-    if (blk.lambda_row >= 0) block_rows(t, blk.kind, blk.rows.lambda_rows, v, qp, vp, F.segment(blk.lambda_row, blk.nr));
-    if (blk.mu_row >= 0) block_rows(t, blk.kind, blk.rows.mu_rows, v, qp, vp, F.segment(blk.mu_row, blk.nr));
-  }
-}
-
-void ConstraintScheme::iteration_matrix(const JacobianInputs& in, IterationMatrixView& J) const {
-  add_kinematic_jacobian(in, J);
-  add_dynamic_jacobian(in, J);
-  for (int b = 0; b < in.lay.n_blocks; ++b) {
-    const ConstraintBlockLayout& blk = in.lay.blocks[b];
-    if (blk.lambda_row >= 0) add_block_jacobian(in, blk.kind, blk.rows.lambda_rows, blk.lambda_row, J);
-    if (blk.mu_row >= 0) add_block_jacobian(in, blk.kind, blk.rows.mu_rows, blk.mu_row, J);
-  }
-}
-
-void ConstraintScheme::consistent_start(const StandardTerms& t, const UnknownLayout& lay, VecRef y,
-                                        VecRef yp) const {
-  schemes::consistent_start(t, lay, y, yp);
 }
 
 void schemes::consistent_start(const StandardTerms& t, const UnknownLayout& lay, VecRef y, VecRef yp) {

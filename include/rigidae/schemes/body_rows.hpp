@@ -23,18 +23,9 @@
 
 namespace rigidae::schemes {
 
-// F = q' - N v.
-inline void kinematic_rows(const StandardTerms& t, const ConstVecRef& qp, VecRef F) { F = qp - t.qdot; }
-
 // F += Phi_q^T mu (GGL's mu in q' = N v - Phi_q^T mu).
 inline void add_kinematic_multipliers(const StandardTerms& t, const ConstVecRef& mu, VecRef F) {
   F.noalias() += t.phi_q.transpose() * mu;
-}
-
-// F = M v' - f.
-inline void dynamic_rows(const StandardTerms& t, const ConstVecRef& vp, VecRef F) {
-  F.noalias() = t.M * vp;
-  F -= t.f;
 }
 
 // F += G^T lambda (the constraint forces of a Force-kind block).
