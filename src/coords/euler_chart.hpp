@@ -64,7 +64,6 @@ class EulerAnglesRepresentation : public Representation {
   Vec4 orientation(const VecQ& q) const override { return so3::matrix_to_quaternion(placement(q)); }
   Mat3 placement(const VecQ& q) const override { return chart_.rotation(q.head<3>()); }
 
-  int chart_count() const override { return static_cast<int>(so3::all_euler_sequences().size()); }
   int chart() const override { return chart_.index(); }
   bool has_charts() const override { return true; }
   int most_regular_chart(const VecQ& q) const override {

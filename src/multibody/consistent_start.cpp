@@ -222,22 +222,15 @@ void MultibodyProblem::make_consistent_by_body(Eigen::VectorXd& y, Eigen::Vector
     const ConstraintBlock* own = nullptr;
     for (const ConstraintBlock& blk : blocks_)
       if (blk.internal && blk.body == i) own = &blk;
-    UnknownLayout lay;
+    schemes::BodyLayout lay;
     lay.nq = b.nqr;
     lay.nv = b.nvr;
     if (own) {
       lay.n_lambda = own->lambda_group >= 0 ? own->nr : 0;
       lay.n_mu = own->mu_group >= 0 ? own->nr : 0;
-      lay.n_blocks = 1;
-      ConstraintBlockLayout& bl = lay.blocks[0];
-      bl.kind = own->kind;
-      bl.nr = own->nr;
-      bl.rows.lambda = lay.n_lambda > 0;
-      bl.rows.mu = lay.n_mu > 0;
-      bl.rows.lambda_rows = own->lambda_rows;
-      bl.rows.mu_rows = own->mu_rows;
-      if (bl.rows.lambda) bl.lambda_row = lay.lambda_offset();
-      if (bl.rows.mu) bl.mu_row = lay.mu_offset();
+      lay.kind = own->kind;
+      lay.lambda_rows = own->lambda_rows;
+      lay.mu_rows = own->mu_rows;
     }
     StandardTerms terms = work_[i].terms;  // at (q, v) of y: residual() evaluated them
     terms.f = -F.segment(vo + b.nx, b.nvr);

@@ -434,12 +434,12 @@ bool MultibodyProblem::residual(double t, const double* y, const double* yp, dou
       F[qo + k] = yp[qo + k] - y[vo + k];
       F[vo + k] = b.mass * yp[vo + k];
     }
-    // The rotation block's rows in the one-body schemes' order
-    // (schemes/body_rows.hpp: q' - N v; M v' formed first, then - f), as
-    // plain loops: Eigen's product on these small blocks sums each row from
-    // its first column on, as here, and its dispatch cost 1-2 % of a
-    // mechanism's residual (callgrind). test_pivot_bitwise.cpp holds the two
-    // equal bit for bit.
+    // The rotation block's rows in the deleted one-body model's order
+    // (q' - N v; M v' formed first, then - f), as plain loops: Eigen's
+    // product on these small blocks sums each row from its first column on,
+    // as here, and its dispatch cost 1-2 % of a mechanism's residual
+    // (callgrind). The single-body pins (tests/guard/pinned.json, recorded
+    // from that model) hold the order bit for bit.
     const int qr = qo + b.nx, vr = vo + b.nx;
     for (int k = 0; k < b.nqr; ++k) F[qr + k] = yp[qr + k] - w.terms.qdot(k);
     for (int k = 0; k < b.nvr; ++k) {

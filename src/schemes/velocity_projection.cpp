@@ -2,8 +2,9 @@
 // velocity nearest to v in kinetic energy with G v = 0, by the Schur
 // complement of M (dense; M is the body's positive definite mass matrix):
 //   v - M^-1 G^T (G M^-1 G^T)^-1 G v.
-// Used by the multibody model for bodies not joined to others (a one-body
-// scene's body among them) and by the ODE form's per-body path.
+// Used by the multibody model's projection for bodies not joined to others
+// (a one-body scene's body among them); the ODE form's per-body path has its
+// own (BodyOde::project, which also handles a singular M).
 #include "rigidae/schemes/body_rows.hpp"
 
 namespace rigidae::schemes {

@@ -15,7 +15,9 @@
 // they take no force multiplier. A scheme enforces them through the
 // kinematics instead (q' = N v - Phi_q^T mu).
 //
-// A constraint scheme (schemes/) turns these terms into IDA residual rows.
+// The multibody assembler (multibody/) turns these terms into IDA residual
+// rows, and a constraint scheme (schemes/) says which rows a constraint block
+// gets.
 #include <memory>
 #include <string>
 #include <vector>
@@ -120,21 +122,21 @@ class Representation {
   virtual void project_coordinates(VecQ& /*q*/) const {}
 
   // Charts. A representation with singular charts (Euler angles) is one
-  // chart of a numbered family (chart() of chart_count()) and never changes:
-  // which chart a run is in is the run's state (dae/), not the
+  // chart of a numbered family (chart()) and never changes: which chart a
+  // run is in is the run's state (MultibodyProblem's workspace), not the
   // representation's. It reports a margin in [0, 1] (1 far from the
   // singularity, 0 at it), the chart most regular at an orientation, and
   // builds the same representation in another chart of the family. A state
   // moves between charts through the physical state:
   //   other.from_physical(placement(q), body_angular_velocity(q, v), q', v').
-  virtual int chart_count() const { return 1; }
   virtual int chart() const { return 0; }
   virtual bool has_charts() const { return false; }
   virtual double chart_margin(const VecQ& /*q*/) const { return 1.0; }
   virtual std::string chart_name() const { return {}; }
   // The chart most regular at q's orientation (chart() when this one is).
   virtual int most_regular_chart(const VecQ& /*q*/) const { return chart(); }
-  // This representation in chart `c` of the family (0 <= c < chart_count()).
+  // This representation in chart `c` of the family (a chart() or
+  // most_regular_chart() of it).
   virtual std::unique_ptr<Representation> in_chart(int c) const;
 };
 

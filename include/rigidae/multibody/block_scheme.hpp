@@ -2,8 +2,8 @@
 // A constraint scheme as the multibody assembler reads it: the rows of
 // schemes/ per block kind (rigidae/schemes/block_rows.hpp; multibody.md,
 // "Constraint blocks and kinds"), plus the two things a scheme does outside
-// the rows. The rows come from the scheme's own file in src/schemes: one
-// table, read by the single-body and the multibody assemblers.
+// the rows. The rows come from the scheme's own file in src/schemes
+// (rows()), not restated here.
 //   rows = w_A (G v' - gamma) + w_V (velocity level) + w_P Phi
 // velocity level: G v (Force) or Phi_q q' (Kinematic).
 // Force blocks (joints in both forms, internal blocks in the Lagrange form)

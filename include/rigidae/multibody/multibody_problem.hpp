@@ -381,7 +381,7 @@ class MultibodyProblem final : public DaeProblem {
   // no multipliers.
   void make_consistent_by_body(Eigen::VectorXd& y, Eigen::VectorXd& yp, const Eigen::VectorXd& F);
   // A body's own block's rows into F and its multipliers' forces into the
-  // body's rows, by the one-body schemes' expressions (schemes/body_rows.hpp).
+  // body's rows, by the one-body model's expressions (schemes/body_rows.hpp).
   void internal_block_rows(const ConstraintBlock& blk, const Eigen::Map<const Eigen::VectorXd>& y,
                            const Eigen::Map<const Eigen::VectorXd>& yp, Eigen::Map<Eigen::VectorXd>& F) const;
   void differentiate_block(int j, const double* y, const double* yp);

@@ -1,7 +1,7 @@
 #pragma once
 // What a constraint scheme writes for a block of constraints, per kind of
-// block (multibody.md, "Constraint blocks and kinds"). One vocabulary for the
-// single-body schemes (src/schemes) and the multibody assembler.
+// block (multibody.md, "Constraint blocks and kinds"): what the schemes
+// (src/schemes) state and the multibody assembler reads.
 //
 // A block's constraints Phi(q) = 0 are of one kind:
 //   Force      held by forces: G^T lambda in the dynamics M v' = f - G^T lambda
@@ -31,12 +31,6 @@ struct KindRows {
 // A scheme's rows for each kind of block.
 struct SchemeRows {
   KindRows force, kinematic;
-  // The rows of a block of this kind (none for ConstraintKind::None).
-  KindRows of(ConstraintKind kind) const {
-    if (kind == ConstraintKind::Force) return force;
-    if (kind == ConstraintKind::Kinematic) return kinematic;
-    return {};
-  }
 };
 
 }  // namespace rigidae

@@ -1,27 +1,34 @@
 #pragma once
-// One body's residual rows from its standard-form terms (representation.hpp),
-// written once for both assemblers: the one-body schemes (src/schemes/
-// scheme.cpp) and the multibody assembler's bodies' own constraint blocks
-// (src/multibody/multibody_problem.cpp, whose rotation rows q' - N v and
-// M v' - f are loops in this same order: cheaper on its small blocks, and
-// equal bit for bit, test_pivot_bitwise.cpp). Floating-point sums depend on
-// their order, so a one-body scene run as a system of one body gives the
-// one-body model's numbers bit for bit only if both evaluate every row by the
-// same expressions on the same types; these are they.
+// One body's own constraint rows from its standard-form terms
+// (representation.hpp), as the multibody assembler evaluates a body's own
+// constraint block (src/multibody/multibody_problem.cpp,
+// internal_block_rows), and the dense one-body kernels it runs for bodies
+// not joined to others (src/multibody/consistent_start.cpp). They are the
+// deleted one-body model's expressions, kept on the same types in the same
+// order: floating-point sums depend on their order, and a one-body scene
+// gives the one-body pins' numbers (tests/guard/pinned.json) bit for bit only
+// while they do. The assembler's rotation rows q' - N v and M v' - f are
+// loops there in the same order (M v' summed first, then - f).
 //
-//   kinematic rows   q' - N v          (+ Phi_q^T mu: add_kinematic_multipliers)
-//   dynamic rows     M v' - f          (+ G^T lambda: add_constraint_forces)
+//   added to the kinematic rows   Phi_q^T mu   (add_kinematic_multipliers)
+//   added to the dynamic rows     G^T lambda   (add_constraint_forces)
 //   a multiplier group's rows of a block of the body's own constraints
 //                    w_A (G v' - gamma) + w_V (velocity level) + w_P Phi
 //   velocity level   G v (Force kind) or Phi_q q' (Kinematic kind)
-// Each sum is formed first and then added (M v' is a product, then f is
-// subtracted; G^T lambda is a product, then added to the dynamic row), and
-// a block's levels are taken in the order acceleration, velocity, position.
-// Arguments are the body's own segments: q' (nq), v and v' (nv), lambda and
-// mu (nc each). Hot path: allocates nothing.
-#include "rigidae/schemes/scheme.hpp"
+// Each sum is formed first and then added (G^T lambda is a product, then
+// added to the dynamic row), and a block's levels are taken in the order
+// acceleration, velocity, position. Arguments are the body's own segments:
+// q' (nq), v and v' (nv), lambda and mu (nc each). Hot path: allocates
+// nothing.
+#include <Eigen/Core>
+
+#include "rigidae/coords/representation.hpp"
+#include "rigidae/schemes/block_rows.hpp"
 
 namespace rigidae::schemes {
+
+using VecRef = Eigen::Ref<Eigen::VectorXd>;
+using ConstVecRef = Eigen::Ref<const Eigen::VectorXd>;
 
 // F += Phi_q^T mu (GGL's mu in q' = N v - Phi_q^T mu).
 inline void add_kinematic_multipliers(const StandardTerms& t, const ConstVecRef& mu, VecRef F) {
@@ -101,10 +108,32 @@ inline BlockDrift block_drift(const StandardTerms& t, ConstraintKind kind, const
   return d;
 }
 
-// The consistent start of one body's unknowns laid out as `lay` (y = (q | v
-// | lambda | mu)): see ConstraintScheme::consistent_start. Dense (the
-// saddle system of one body has at most 15 rows).
-void consistent_start(const StandardTerms& terms, const UnknownLayout& lay, VecRef y, VecRef yp);
+// One body's unknowns y = (q | v | lambda | mu) and the rows of its own
+// constraint block (none for Euler angles, and no multiplier group when the
+// scheme writes no rows for its kind: index 1 in the Euler form).
+struct BodyLayout {
+  int nq = 0, nv = 0, n_lambda = 0, n_mu = 0;  // n_lambda, n_mu: 0 or the block's rows
+  ConstraintKind kind = ConstraintKind::None;  // of the body's own block
+  LevelWeights lambda_rows, mu_rows;           // the scheme's rows for that kind
+  int q_offset() const { return 0; }
+  int v_offset() const { return nq; }
+  int lambda_offset() const { return nq + nv; }
+  int mu_offset() const { return nq + nv + n_lambda; }
+  int size() const { return nq + nv + n_lambda + n_mu; }
+};
+
+// The consistent start of one body's unknowns laid out as `lay`, dense (the
+// saddle system of one body has at most 15 rows). Given q, v in y (on the
+// constraint manifold), fills the multipliers of y and all of yp so that
+// the body's rows vanish to round-off:
+// (v', lambda) from the constrained-acceleration system
+//   [M G^T; G 0] (v', lambda) = (f, gamma),
+// mu from d/dt Phi = Phi_q (N v - Phi_q^T mu) = 0 (zero on exact data),
+// q' = N v - Phi_q^T mu. A scheme with feedback starts on its own rows:
+// with lambda rows w_A (G v' - gamma) + w_V G v + w_P Phi = 0, the target
+// of G v' is gamma - (w_V G v + w_P Phi) / w_A; with mu rows of a
+// Kinematic block w_V Phi_q q' + w_P Phi = 0, Phi_q q' = -w_P Phi / w_V.
+void consistent_start(const StandardTerms& terms, const BodyLayout& lay, VecRef y, VecRef yp);
 
 // v moved onto G v = 0 (Force kind), the nearest such v in kinetic energy:
 //   v - M^-1 G^T (G M^-1 G^T)^-1 G v

@@ -27,32 +27,6 @@ struct ProjectionPolicy {
   double threshold = 0.0;   // on |Phi| and |G v| (or |dPhi/dt|)
 };
 
-// One block of constraints: its kind, its number of rows, what the scheme
-// writes for that kind, and where its multiplier rows start (-1: no group).
-struct ConstraintBlockLayout {
-  ConstraintKind kind = ConstraintKind::None;
-  int nr = 0;
-  KindRows rows;
-  int lambda_row = -1, mu_row = -1;
-};
-
-struct UnknownLayout {
-  int nq = 0, nv = 0, n_lambda = 0, n_mu = 0;
-  // One body has at most one block (none for Euler angles, and none when the
-  // scheme writes no rows for its kind: index 1 in the Euler form).
-  static constexpr int kMaxBlocks = 1;
-  int n_blocks = 0;
-  ConstraintBlockLayout blocks[kMaxBlocks];
-  int q_offset() const { return 0; }
-  int v_offset() const { return nq; }
-  int lambda_offset() const { return nq + nv; }
-  int mu_offset() const { return nq + nv + n_lambda; }
-  int size() const { return nq + nv + n_lambda + n_mu; }
-};
-
-using VecRef = Eigen::Ref<Eigen::VectorXd>;
-using ConstVecRef = Eigen::Ref<const Eigen::VectorXd>;
-
 // A number a scheme runs with, for reports (e.g. Baumgarte's gain "a", 1/s).
 struct SchemeParameter {
   std::string name;
