@@ -7,6 +7,7 @@
 #include <fstream>
 #include <map>
 #include <string>
+#include <utility>
 
 #include "rigidae/app/compare.hpp"
 #include "rigidae/app/solve.hpp"
@@ -50,22 +51,95 @@ BodySlots slots(const multibody::MultibodyProblem& p) {
           p.groups()[b.v_group].size};
 }
 
+// check(scene, problem) for the asymmetric top in every coordinates x form x
+// scheme, as every scene runs (a system of one pivoted body).
+template <class Check>
+void for_every_combination_and_scheme(Check&& check) {
+  for (const Coordinates& c : all_coordinates())
+    for (const Equations e : {Equations::Lagrange, Equations::Euler})
+      for (const std::string& scheme : scheme_names()) {
+        CAPTURE(to_string(c));
+        CAPTURE(to_string(e));
+        CAPTURE(scheme);
+        const Scene s = test::asymmetric_top_scene(c, e, scheme);
+        multibody::MultibodyProblem p(one_body_system(s));
+        check(s, p);
+      }
+}
+
 }  // namespace
 
 TEST_CASE("every scheme starts consistently in every representation") {
-  for (const Combination& k : all_combinations())
-    for (const std::string& scheme : scheme_names()) {
-      CAPTURE(k.name());
-      CAPTURE(scheme);
-      Scene s = test::asymmetric_top_scene(k.coordinates, k.equations, scheme);
-      multibody::MultibodyProblem p(one_body_system(s));
-      Eigen::VectorXd y, yp, F(p.size());
-      p.initial_state(0.0, y, yp);
-      REQUIRE(p.residual(0.0, y.data(), yp.data(), F.data()));
-      CHECK(F.cwiseAbs().maxCoeff() < 1e-11);
-      // The start is the scene's physical state.
-      CHECK(so3::quaternion_distance(p.body_orientation(0, y.data()), so3::matrix_to_quaternion(s.R0_WB)) < 1e-14);
+  for_every_combination_and_scheme([](const Scene& s, multibody::MultibodyProblem& p) {
+    Eigen::VectorXd y, yp, F(p.size());
+    p.initial_state(0.0, y, yp);
+    REQUIRE(p.residual(0.0, y.data(), yp.data(), F.data()));
+    CHECK(F.cwiseAbs().maxCoeff() < 1e-11);
+    // The start is the scene's physical state.
+    CHECK(so3::quaternion_distance(p.body_orientation(0, y.data()), so3::matrix_to_quaternion(s.R0_WB)) < 1e-14);
+  });
+}
+
+// Off the manifold (IDA's first-step estimate makes a state consistent at
+// t0 + delta), with y' and the multipliers off too, the start keeps q and v
+// and solves for what y' and the multipliers can set: the kinematic and dynamic rows, and the rows of a
+// multiplier group whose weights reach a rate (the acceleration level G v'
+// of a Force block, the velocity level Phi_q q' of a Kinematic block, q'
+// carrying mu). There a feedback scheme's target holds its own rows, not
+// G v' = gamma or Phi_q q' = 0: Baumgarte's w_A (G v' - gamma) + w_V G v +
+// w_P Phi and Phi_q q' + a Phi vanish with Phi and G v away from zero. Rows
+// of position and velocity level only (index 3's Phi, index 2's G v, GGL's)
+// are functions of q and v and keep their values.
+TEST_CASE("off the manifold the start solves every row a rate or a multiplier reaches, feedback included") {
+  int rate_groups = 0, state_groups = 0, feedback_groups[2] = {0, 0};  // Force, Kinematic blocks
+  for_every_combination_and_scheme([&](const Scene& /*s*/, multibody::MultibodyProblem& p) {
+    const BodySlots at = slots(p);
+    Eigen::VectorXd y, yp, F_off(p.size()), F(p.size());
+    p.initial_state(0.0, y, yp);
+    y.segment(at.q, at.nq) *= 1.001;  // off |q| = 1 and R^T R = I
+    for (int i = 0; i < at.nv; ++i) y(at.v + i) += 0.01 * (i + 1);
+    for (const multibody::ConstraintBlock& blk : p.blocks())
+      for (const int g : {blk.lambda_group, blk.mu_group})
+        if (g >= 0) y.segment(p.groups()[g].offset, p.groups()[g].size).array() += 0.3;
+    for (int i = 0; i < p.size(); ++i) yp(i) += 0.02 * (i % 3 + 1);
+    REQUIRE(p.residual(0.0, y.data(), yp.data(), F_off.data()));
+    const Eigen::VectorXd y_off = y;
+    p.make_consistent(0.0, y, yp);
+    REQUIRE(p.residual(0.0, y.data(), yp.data(), F.data()));
+    CHECK(y.segment(at.q, at.nq) == y_off.segment(at.q, at.nq));
+    CHECK(y.segment(at.v, at.nv) == y_off.segment(at.v, at.nv));
+    const double scale = 1.0 + F_off.cwiseAbs().maxCoeff();
+    CHECK(F.segment(at.q, at.nq).cwiseAbs().maxCoeff() < 1e-12 * scale);
+    CHECK(F.segment(at.v, at.nv).cwiseAbs().maxCoeff() < 1e-12 * scale);
+    for (const multibody::ConstraintBlock& blk : p.blocks()) {
+      const std::pair<int, LevelWeights> groups[] = {{blk.lambda_group, blk.lambda_rows}, {blk.mu_group, blk.mu_rows}};
+      for (const auto& [g, w] : groups) {
+        if (g < 0) continue;
+        const multibody::UnknownGroup& ug = p.groups()[g];
+        const bool reaches_rate = blk.kind == ConstraintKind::Force ? (g == blk.lambda_group && w.acceleration != 0.0)
+                                                                    : w.velocity != 0.0;
+        const Eigen::VectorXd rows = F.segment(ug.offset, ug.size), off = F_off.segment(ug.offset, ug.size);
+        if (reaches_rate) {
+          ++rate_groups;
+          const bool feedback = blk.kind == ConstraintKind::Force ? (w.velocity != 0.0 || w.position != 0.0)
+                                                                  : w.position != 0.0;
+          if (feedback) ++feedback_groups[blk.kind == ConstraintKind::Force ? 0 : 1];
+          CHECK(off.cwiseAbs().maxCoeff() > 1e-4);  // the perturbed state did break them
+          CHECK(rows.cwiseAbs().maxCoeff() < 1e-12 * scale);
+        } else {
+          ++state_groups;
+          CHECK(rows.cwiseAbs().maxCoeff() > 1e-4);  // off the manifold, and no unknown moves them
+          CHECK((rows - off).cwiseAbs().maxCoeff() == 0.0);
+        }
+      }
     }
+  });
+  // Both branches of the start met: Baumgarte's feedback in each kind (quaternion
+  // and linear coordinates), rows without feedback, state-only rows.
+  CHECK(feedback_groups[0] == 2);
+  CHECK(feedback_groups[1] == 2);
+  CHECK(rate_groups > 4);
+  CHECK(state_groups > 0);
 }
 
 TEST_CASE("Lagrange form, rtol 1e-8: index 2 drifts in position only, index 1 at both levels and faster" * doctest::test_suite("slow")) {
