@@ -1,0 +1,290 @@
+#!/usr/bin/python3
+"""Issue 23, item 4: which integrator a scene should get when it names none.
+
+    /usr/bin/python3 bench/default_integrator.py [BUILD_DIR] [--scenes LIST] [--repeats N] [--factors LIST]
+    /usr/bin/python3 bench/default_integrator.py --report bench/results/default_integrator.jsonl
+
+For every shipped scene of problems/ (the long ones over a short span, SHORT
+below), every integrator (ida, arkode-erk with the scene's table, cvode-adams,
+cvode-bdf) runs the scene's coordinates and form with each scheme it accepts
+out of {the scene's own, index1, projection} (Euler angles on bodies nothing
+joins have no constraint: one run, scheme "any"), at rtol = atol = the
+scene's rtol times each of --factors. Each setting runs
+  - once with `--record grid`, for its error: the largest distance over the
+    output grid, over every body, to an independent reference (the closed
+    forms of particle_pendulum, the pendulums' quarter points and the
+    crank-slider, bench/ida_newton_accuracy.py; else a run of the scene's own
+    combination on IDA at rtol = atol = 1e-12): centres of mass in m for
+    mechanisms, the rotation angle in rad for single bodies;
+  - --repeats times with `--record none`, for its cost: summary.json's
+    wall_time_s (the integration alone), the median of the repeats, and the
+    exact counts (steps, right-hand sides or residuals).
+The common error of a scene is the error of its default run today (its own
+combination on IDA at its own tolerance); per integrator the table gives the
+cheapest setting that reaches it (error <= the default's), and its wall time
+against the default's. --stiff adds slider_mechanism with its spring 10^2,
+10^4 and 10^6 times stiffer (and its damping scaled to keep the damping
+ratio), to see where an explicit table stops paying: the stiffness side of
+the rule (docs/benchmarks.md, "Defaults chosen by measurement").
+One JSON line per run on --out (default bench/results/default_integrator.jsonl,
+appended), the tables in markdown on stdout.
+"""
+import argparse
+import json
+import math
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ida_newton_accuracy import errors as closed_form_errors  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+INTEGRATORS = ["ida", "arkode-erk", "cvode-adams", "cvode-bdf"]
+ODE_SCHEMES = ["index1", "projection"]
+# Scenes too long to sweep in full: their span here (s). The pendulums: 10
+# periods (their grids stay on the exact quarter / eighth points).
+SHORT = {
+    "pendulum_1000": 23.679603367139617,
+    "pendulum_1000_pivot": 23.679603367139617,
+    "particle_pendulum": 23.678419475762374,
+    "long_run": 5.0,
+    "dzhanibekov": 20.0,
+}
+CLOSED_FORM = {"particle_pendulum", "pendulum_1000", "crank_slider_driven"}
+TIMEOUT_S = 120
+
+
+def scene_keys(path):
+    text = open(path).read()
+
+    def key(name):
+        m = re.search(r'^\s*' + name + r'\s*=\s*"?([^"\s#]+)"?', text, re.M)
+        return m.group(1) if m else None
+
+    return {
+        "multibody": "\nschema_version = 2" in text,
+        "joined": "[[joints]]" in text or "[[drivers]]" in text,
+        "coordinates": key("coordinates") or "quaternion",
+        "scheme": key("scheme") or "ggl",
+        "integrator": key("integrator"),
+        "rtol": float(key("rtol") or 1e-8),
+    }
+
+
+def settings_of(keys):
+    """(integrator, scheme) pairs a scene runs in its coordinates and form."""
+    unconstrained = keys["coordinates"] == "euler" and not keys["joined"]
+    out = []
+    for integ in INTEGRATORS:
+        if unconstrained:
+            out.append((integ, "any"))
+            continue
+        schemes = [keys["scheme"]] + ODE_SCHEMES if integ == "ida" else ODE_SCHEMES
+        for s in dict.fromkeys(schemes):
+            out.append((integ, s))
+    return out
+
+
+def read_csv_rows(path):
+    import csv
+    with open(path) as f:
+        return list(csv.DictReader(line for line in f if not line.startswith("#")))
+
+
+def solve(rigidae, scene_path, out, integ, scheme, rtol, record, t_end, extra=()):
+    cmd = [rigidae, "solve", scene_path, "--integrator", integ, "--record", record, "--quiet", "--out", out,
+           "--rtol", repr(rtol), "--atol", repr(rtol)] + list(extra)
+    if scheme != "any":
+        cmd += ["--scheme", scheme]
+    if t_end:
+        cmd += ["--t-end", repr(t_end)]
+    try:
+        p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, timeout=TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        return None, f"over {TIMEOUT_S} s"
+    summary_path = os.path.join(out, "summary.json")
+    if not os.path.exists(summary_path):
+        return None, (p.stderr.strip().splitlines() or ["no summary"])[-1]
+    with open(summary_path) as f:
+        s = json.load(f)
+    if s["status"] != "success":
+        return s, s["message"]
+    return s, ""
+
+
+def quat_columns(row):
+    for names in (("qw", "qx", "qy", "qz"),):
+        if all(n in row for n in names):
+            return names
+    return None
+
+
+def grid_error(scene, rows, ref_rows, multibody):
+    """Largest error over the grid: m (centres of mass, worst body) or rad (a single body's rotation)."""
+    if scene in CLOSED_FORM:
+        worst, _ = closed_form_errors(scene, rows, ref_rows)
+        return worst
+    n = min(len(rows), len(ref_rows))
+    if not multibody:
+        names = quat_columns(rows[0])
+        worst = 0.0
+        for a, b in zip(rows[:n], ref_rows[:n]):
+            qa = [float(a[c]) for c in names]
+            qb = [float(b[c]) for c in names]
+            dot = min(1.0, abs(sum(x * y for x, y in zip(qa, qb))))
+            worst = max(worst, 2 * math.acos(dot))
+        return worst
+    bodies = sorted({k[:-2] for k in rows[0] if k.endswith(".x") and k[:-2] + ".vx" in rows[0]})
+    worst = 0.0
+    for a, b in zip(rows[:n], ref_rows[:n]):
+        for body in bodies:
+            d = math.sqrt(sum((float(a[body + c]) - float(b[body + c])) ** 2 for c in (".x", ".y", ".z")))
+            worst = max(worst, d)
+    return worst
+
+
+def evaluations(summary):
+    c = summary["counters"]
+    return c["residual_evals"] + c.get("jacobian_residual_evals", 0)
+
+
+def stiff_variant(factor, d):
+    """slider_mechanism with its spring `factor` times stiffer, damping scaled by sqrt(factor)."""
+    text = open(os.path.join(ROOT, "problems", "slider_mechanism.toml")).read()
+    text = re.sub(r'^stiffness = 50\.0', f"stiffness = {50.0 * factor!r}", text, flags=re.M)
+    text = re.sub(r'^damping = 0\.5\b', f"damping = {0.5 * math.sqrt(factor)!r}", text, flags=re.M)
+    text = re.sub(r'^name = "slider_mechanism"', f'name = "slider_stiff_{factor:g}"', text, flags=re.M)
+    path = os.path.join(d, f"slider_stiff_{factor:g}.toml")
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
+def measure_scene(rigidae, name, path, factors, repeats, out_file, commit, load_note):
+    keys = scene_keys(path)
+    t_end = SHORT.get(name)
+    lines = []
+    with tempfile.TemporaryDirectory() as d:
+        ref_rows = None
+        if name not in CLOSED_FORM:
+            ref_scheme = keys["scheme"] if not (keys["coordinates"] == "euler" and not keys["joined"]) else "any"
+            if ref_scheme in ODE_SCHEMES:
+                ref_scheme = "ggl"  # a DAE scheme on IDA: the reference is independent of the runs' ODE form
+            s, why = solve(rigidae, path, os.path.join(d, "ref"), "ida", ref_scheme, 1e-12, "grid", t_end)
+            if why:
+                print(f"{name}: reference failed: {why}", file=sys.stderr)
+                return []
+            ref_rows = read_csv_rows(os.path.join(d, "ref", "trajectory.csv"))
+        for integ, scheme in settings_of(keys):
+            for f in factors:
+                rtol = keys["rtol"] * f
+                run_dir = os.path.join(d, "run")
+                s, why = solve(rigidae, path, run_dir, integ, scheme, rtol, "grid", t_end)
+                rec = {"kind": "default_integrator", "commit": commit, "load": load_note, "scene": name,
+                       "own_scheme": keys["scheme"], "scene_rtol": keys["rtol"], "t_end": t_end,
+                       "integrator": integ, "scheme": scheme, "rtol": rtol,
+                       "default": integ == "ida" and scheme in (keys["scheme"], "any") and f == 1,
+                       "status": "failed" if why else "success", "message": why}
+                if not why:
+                    rows = read_csv_rows(os.path.join(run_dir, "trajectory.csv"))
+                    rec["error"] = grid_error(name, rows, ref_rows, keys["multibody"])
+                    rec["error_unit"] = "m" if keys["multibody"] else "rad"
+                    walls = []
+                    for _ in range(repeats):
+                        s2, why2 = solve(rigidae, path, os.path.join(d, "none"), integ, scheme, rtol, "none", t_end)
+                        if why2:
+                            break
+                        walls.append(s2["wall_time_s"])
+                    rec.update({"steps": s["counters"]["steps"], "evaluations": evaluations(s),
+                                "jacobian_evals": s["counters"]["jacobian_evals"], "walls_s": walls,
+                                "wall_median_s": statistics.median(walls) if walls else None})
+                with open(out_file, "a") as fo:
+                    fo.write(json.dumps(rec) + "\n")
+                lines.append(rec)
+                err = f"{rec['error']:.2e}" if "error" in rec else why[:60]
+                wall = f"{rec['wall_median_s'] * 1e3:.2f} ms" if rec.get("wall_median_s") else "-"
+                print(f"  {name} {integ} {scheme} rtol {rtol:g}: {err} {wall}", file=sys.stderr, flush=True)
+    return lines
+
+
+def fmt_ms(x):
+    return f"{x * 1e3:,.2f}" if x is not None else "-"
+
+
+def report(records):
+    scenes = list(dict.fromkeys(r["scene"] for r in records))
+    print("| scene | scheme | error unit | default (IDA, own scheme, scene rtol): error / steps / wall ms | "
+          + " | ".join(f"{i}: cheapest to that error (scheme, rtol, steps, wall ms, x default)" for i in INTEGRATORS)
+          + " |")
+    print("|---|---|---|---|" + "---|" * len(INTEGRATORS))
+    verdicts = []
+    for sc in scenes:
+        rs = [r for r in records if r["scene"] == sc]
+        base = next((r for r in rs if r["default"] and r["status"] == "success"), None)
+        if base is None:
+            continue
+        target = base["error"]
+        cells = []
+        best = {}
+        for integ in INTEGRATORS:
+            ok = [r for r in rs if r["integrator"] == integ and r["status"] == "success" and r["error"] <= target
+                  and r.get("wall_median_s")]
+            if not ok:
+                tried = [r for r in rs if r["integrator"] == integ]
+                cells.append("not reached" if tried else "-")
+                continue
+            b = min(ok, key=lambda r: r["wall_median_s"])
+            best[integ] = b
+            cells.append(f"{b['scheme']}, {b['rtol']:g}, {b['steps']:,}, {fmt_ms(b['wall_median_s'])}, "
+                         f"{b['wall_median_s'] / base['wall_median_s']:.2f}")
+        print(f"| {sc} | {base['own_scheme']} | {base['error_unit']} | {target:.2e} / {base['steps']:,} / "
+              f"{fmt_ms(base['wall_median_s'])} | " + " | ".join(cells) + " |")
+        if best:
+            w = min(best.values(), key=lambda r: r["wall_median_s"])
+            verdicts.append((sc, w["integrator"], w["scheme"], w["wall_median_s"] / base["wall_median_s"]))
+    print()
+    print("| scene | cheapest integrator to the default's error | its scheme | its wall / the default's |")
+    print("|---|---|---|---:|")
+    for sc, integ, scheme, ratio in verdicts:
+        print(f"| {sc} | {integ} | {scheme} | {ratio:.2f} |")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--scenes", default="", help="comma-separated scene names (default: every scene in problems/)")
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--factors", default="100,10,1,0.1", help="rtol = atol = the scene's rtol times each")
+    ap.add_argument("--stiff", action="store_true", help="also slider_mechanism with a 1e2, 1e4, 1e6 x stiffer spring")
+    ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results", "default_integrator.jsonl"))
+    ap.add_argument("--report", default="", help="print the tables of this JSON-lines file and run nothing")
+    a = ap.parse_args()
+    if a.report:
+        report([json.loads(x) for x in open(a.report) if x.strip()])
+        return
+    rigidae = os.path.join(a.build, "rigidae")
+    factors = [float(x) for x in a.factors.split(",")]
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+                            text=True).stdout.strip()
+    names = a.scenes.split(",") if a.scenes else sorted(
+        n[:-5] for n in os.listdir(os.path.join(ROOT, "problems")) if n.endswith(".toml"))
+    records = []
+    with tempfile.TemporaryDirectory() as d:
+        jobs = [(n, os.path.join(ROOT, "problems", n + ".toml")) for n in names]
+        if a.stiff:
+            jobs += [(f"slider_stiff_{k:g}", stiff_variant(k, d)) for k in (1e2, 1e4, 1e6)]
+        for name, path in jobs:
+            load = f"{os.getloadavg()[0]:.1f}"
+            started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+            print(f"{name} ({started}, load {load})", file=sys.stderr, flush=True)
+            records += measure_scene(rigidae, name, path, factors, a.repeats, a.out, commit, load)
+    report(records)
+
+
+if __name__ == "__main__":
+    main()
