@@ -371,7 +371,7 @@ std::string format_integrator_ranking(const CompareReport& r) {
       const int i = level.row[j];
       const std::string cell =
           i < 0 ? "-"
-                : fmt::format("{:.4f}{}", r.rows[static_cast<std::size_t>(i)].wall_median,
+                : fmt::format("{:.3g}{}", r.rows[static_cast<std::size_t>(i)].wall_median,
                               static_cast<int>(j) == level.fastest ? "*" : "");
       s += fmt::format(" {:>{}}", cell, width[j]);
     }
