@@ -5,13 +5,13 @@
 // measurement"). The rule, in order:
 //   1. a scheme only IDA runs (index3, index2, ggl, baumgarte: the DAE
 //      forms; solver/integrators.hpp) -> ida;
-//   2. a stiff scene -> ida: the fastest rate of its force elements, lambda,
-//      times the output step dt exceeds kStiffRateTimesOutputStep, where
-//      lambda is the largest over springs of sqrt(k / m) and c / m (m the
-//      two bodies' reduced mass, the ground's infinite) and over torsional
-//      springs of sqrt(k / I) and c / I (I the reduced moment of the two
-//      bodies about the joint axis through their centres of mass: at most
-//      the true one, so the rate is an upper bound);
+//   2. a stiff scene -> ida: with dt the output step, c/m * dt >
+//      kStiffDampingRateTimesOutputStep or sqrt(k/m) * dt >
+//      kStiffSpringRateTimesOutputStep, the largest over springs (m the two
+//      bodies' reduced mass, the ground's infinite) and torsional springs
+//      and dampers (m the reduced moment of the two bodies about the joint
+//      axis through their centres of mass: at most the true one, so the
+//      rates are upper bounds);
 //   3. otherwise arkode-erk (the scene's erk_method, Fehlberg 7(8) unless
 //      named): the explicit table, on the scene's index1 or projection.
 // A scene's coordinates, form and scheme are the file's (default
@@ -22,21 +22,31 @@
 
 namespace rigidae::settings {
 
-// lambda * dt above which a scene counts as stiff (rule 2). Measured on
-// slider_mechanism with its spring made stiffer (docs/benchmarks.md).
-inline constexpr double kStiffRateTimesOutputStep = 10.0;
+// Limits of rule 2, from slider_mechanism over 0.5 s (dt = 0.01 s) with its
+// spring made stiffer or its damper stronger (docs/benchmarks.md, "Defaults
+// chosen by measurement"): arkode-erk against IDA to equal error was 0.81x
+// at c/m dt = 1.25, 3.8x at 125 and 509x at 12,500, so the damping limit
+// lies between; with the excited spring 0.29x at sqrt(k/m) dt = 11 and
+// still cheaper at 112. The spring limit is set 10x above the largest
+// case measured: where it crosses was not measured.
+inline constexpr double kStiffDampingRateTimesOutputStep = 10.0;
+inline constexpr double kStiffSpringRateTimesOutputStep = 1000.0;
+
+// The fastest rates of a scene's force elements (1/s; 0 without any) and
+// the spring or joint that sets each.
+struct ForceRates {
+  double spring = 0.0;   // sqrt(k/m)
+  double damping = 0.0;  // c/m
+  std::string spring_element, damping_element;
+};
+ForceRates force_rates(const Scene& scene);
 
 struct DefaultIntegrator {
-  std::string integrator;   // "ida" or "arkode-erk"
-  std::string reason;       // why, for summary.json and the printed note
-  double fastest_rate = 0;  // lambda, 1/s (0: no spring or damper)
-  std::string fastest_element;  // the spring or joint that sets it ("" when none)
-  double output_step = 0;   // dt, s
+  std::string integrator;  // "ida" or "arkode-erk"
+  std::string reason;      // why, for summary.json and the printed note
+  ForceRates rates;
+  double output_step = 0;  // dt, s
 };
-
-// lambda and the element that sets it (rule 2), from the scene's springs and
-// torsional springs; 0 for a scene without any.
-double fastest_force_rate(const Scene& scene, std::string* element = nullptr);
 
 // The rule for this scene, whatever it names.
 DefaultIntegrator default_integrator(const Scene& scene);
