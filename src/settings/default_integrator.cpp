@@ -3,8 +3,8 @@
 //
 // Rates of the force elements (1/s), each an upper bound on the magnitude of
 // an eigenvalue that element adds to the linearised motion:
-//   linear spring-damper   sqrt(k / m), c / m,   1/m = 1/m_a + 1/m_b (ground: 1/m = 0)
-//   torsional spring       sqrt(k / I), c / I,   1/I = 1/I_a + 1/I_b, I a body's moment
+//   linear spring-damper   sqrt(k / m), and c / m (at most) when overdamped,   1/m = 1/m_a + 1/m_b (ground: 1/m = 0)
+//   torsional spring       sqrt(k / I), and c / I (at most) when overdamped,   1/I = 1/I_a + 1/I_b, I a body's moment
 //                                                about the joint axis through its centre of mass
 // An undamped oscillator has eigenvalues +-i sqrt(k/m), which an explicit
 // table must resolve only as far as the motion excites them (an excited one
@@ -64,9 +64,14 @@ ForceRates force_rates(const Scene& scene) {
   ForceRates r;
   if (!scene.multibody) return r;
   const MultibodySpec& spec = *scene.multibody;
-  // An element of stiffness k and damping c on inverse inertia w.
+  // An element of stiffness k and damping c on inverse inertia w: x'' + c w x' + k w x = 0, eigenvalues
+  // (-c w +- sqrt(c^2 w^2 - 4 k w)) / 2. Overdamped (c^2 w >= 4 k), the fast one decays at
+  // (c w + sqrt(c^2 w^2 - 4 k w)) / 2 (c w for a damper alone); underdamped, the pair oscillates at
+  // |lambda| = sqrt(k w) and decays at c w / 2 < sqrt(k w): the spring's rate covers it.
   auto consider = [&](double k, double c, double w, const std::string& name) {
-    const double spring = std::sqrt(std::max(k, 0.0) * w), damping = std::max(c, 0.0) * w;
+    k = std::max(k, 0.0), c = std::max(c, 0.0);
+    const double spring = std::sqrt(k * w);
+    const double damping = c * c * w >= 4 * k ? 0.5 * (c * w + std::sqrt(c * c * w * w - 4 * k * w)) : 0.0;
     if (spring > r.spring) r.spring = spring, r.spring_element = name;
     if (damping > r.damping) r.damping = damping, r.damping_element = name;
   };
@@ -92,8 +97,8 @@ DefaultIntegrator default_integrator(const Scene& scene) {
   const double damping = d.rates.damping * d.output_step, spring = d.rates.spring * d.output_step;
   if (damping > kStiffDampingRateTimesOutputStep) {
     d.integrator = kIda;
-    d.reason = fmt::format("default for a stiff scene: {} damps at c/m = {:.3g} 1/s, {:.3g} x the output step {:g} s "
-                           "> {:g}",
+    d.reason = fmt::format("default for a stiff scene: {} is overdamped, its fast mode decays at {:.3g} 1/s, {:.3g} x "
+                           "the output step {:g} s > {:g}",
                            d.rates.damping_element, d.rates.damping, damping, d.output_step,
                            kStiffDampingRateTimesOutputStep);
     return d;
@@ -108,8 +113,8 @@ DefaultIntegrator default_integrator(const Scene& scene) {
   }
   d.integrator = kExplicit;
   d.reason = d.rates.spring > 0.0 || d.rates.damping > 0.0
-                 ? fmt::format("default for a non-stiff scene with scheme {}: c/m x the output step {:.3g} <= {:g}, "
-                               "sqrt(k/m) x it {:.3g} <= {:g}",
+                 ? fmt::format("default for a non-stiff scene with scheme {}: the fastest decay x the output step "
+                               "{:.3g} <= {:g}, sqrt(k/m) x it {:.3g} <= {:g}",
                                scheme, damping, kStiffDampingRateTimesOutputStep, spring,
                                kStiffSpringRateTimesOutputStep)
                  : fmt::format("default for a non-stiff scene with scheme {}: no spring or damper", scheme);

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -73,7 +74,8 @@ TEST_CASE("default integrator: a non-stiff index1 or projection scene gets the e
   const Scene soft = parse(body_on_spring(2e4, 0.0));
   CHECK(soft.solver.integrator == "arkode-erk");
   CHECK(soft.solver.integrator_choice ==
-        "default for a non-stiff scene with scheme index1: c/m x the output step 0 <= 10, sqrt(k/m) x it 1 <= 1000");
+        "default for a non-stiff scene with scheme index1: the fastest decay x the output step 0 <= 10, sqrt(k/m) x it 1 "
+        "<= 1000");
   CHECK(parse(body_on_spring(2e8, 0.0)).solver.integrator == "arkode-erk");
 }
 
@@ -89,11 +91,13 @@ TEST_CASE("default integrator: a DAE-only scheme or a stiff spring gets IDA") {
   const Scene stiff = parse(body_on_spring(8e10, 0.0));
   CHECK(stiff.solver.integrator == "ida");
   CHECK(stiff.solver.integrator_choice.rfind("default for a stiff scene: coil sets sqrt(k/m) = 2e+05 1/s", 0) == 0);
-  // A stiff damper: c/m = 2e4 / 2 = 1e4 1/s, x 0.01 s = 100 > 10.
+  // A stiff damper on a weak spring (overdamped): it decays at
+  // (c + sqrt(c^2 - 4 k m)) / 2m = 1e4 1/s (to 1e-8), x 0.01 s = 100 > 10.
   const Scene damped = parse(body_on_spring(1.0, 2e4));
   CHECK(damped.solver.integrator == "ida");
-  CHECK(damped.solver.integrator_choice.rfind("default for a stiff scene: coil damps at c/m = 1e+04 1/s", 0) == 0);
-  // Just below the damping limit: c/m = 900 1/s, x 0.01 s = 9.
+  CHECK(damped.solver.integrator_choice.rfind("default for a stiff scene: coil is overdamped, its fast mode decays at "
+                                              "1e+04 1/s", 0) == 0);
+  // Just below the damping limit: 900 1/s, x 0.01 s = 9.
   CHECK(parse(body_on_spring(1.0, 1800.0)).solver.integrator == "arkode-erk");
   // A stiff spring with a DAE-only scheme: IDA for the scheme (rule 1 first).
   CHECK(parse(body_on_spring(8e10, 0.0, "", "ggl")).solver.integrator_choice.find("only IDA") != std::string::npos);
@@ -104,25 +108,36 @@ TEST_CASE("default integrator: the rate estimates are sqrt(k/m), c/m and sqrt(k/
   CHECK(soft.spring == doctest::Approx(100.0).epsilon(1e-14));
   CHECK(soft.damping == 0.0);
   CHECK(soft.spring_element == "coil");
+  // k = 8, c = 10, m = 2: overdamped (c^2 = 100 >= 4 k m = 64), eigenvalues
+  // (-10 +- 6) / 4: the fast one -4.
   const settings::ForceRates both = settings::force_rates(parse(body_on_spring(8.0, 10.0)));
   CHECK(both.spring == doctest::Approx(2.0).epsilon(1e-14));   // sqrt(8 / 2)
-  CHECK(both.damping == doctest::Approx(5.0).epsilon(1e-14));  // 10 / 2
+  CHECK(both.damping == doctest::Approx(4.0).epsilon(1e-14));
   CHECK(both.damping_element == "coil");
+  // Underdamped (c = 4: 16 < 64): no decaying mode faster than the oscillation.
+  CHECK(settings::force_rates(parse(body_on_spring(8.0, 4.0))).damping == 0.0);
   const settings::ForceRates none = settings::force_rates(parse(one_body("index1")));
   CHECK(none.spring == 0.0);
   CHECK(none.damping == 0.0);
-  // A hinge about z to the ground with a torsional spring of 800 N m/rad and
-  // a damper of 6 N m s/rad: the body's moment about z 2 kg m^2, sqrt(800 / 2)
-  // = 20 1/s, 6 / 2 = 3 1/s.
+  // A hinge about z to the ground with a torsional damper of 6 N m s/rad
+  // alone (then a spring of 800 N m/rad beside it): the body's moment about
+  // z 2 kg m^2, 6 / 2 = 3 1/s (then sqrt(800 / 2) = 20 1/s, underdamped).
   const std::string hinge =
       "schema_version = 2\n"
       "[[bodies]]\nname = \"b\"\nmass = 2.0\ninertia_principal = [1.0, 3.0, 2.0]\nposition = [0.0, 0.0, 0.0]\n"
       "[[joints]]\nname = \"h\"\ntype = \"revolute\"\nbodies = [\"ground\", \"b\"]\npoint = [0.0, 0.0, 0.0]\n"
-      "axis = [0.0, 0.0, 1.0]\nstiffness = 800.0\ndamping = 6.0\n"
+      "axis = [0.0, 0.0, 1.0]\nSPRINGdamping = 6.0\n"
       "[time]\nend = 0.1\n[formulation]\nscheme = \"index1\"\n";
-  const settings::ForceRates h = settings::force_rates(parse(hinge));
+  const auto with = [&](const std::string& spring) {
+    return settings::force_rates(parse(std::regex_replace(hinge, std::regex("SPRING"), spring)));
+  };
+  const settings::ForceRates damper = with("");
+  CHECK(damper.spring == 0.0);
+  CHECK(damper.damping == doctest::Approx(3.0).epsilon(1e-12));
+  CHECK(damper.damping_element == "h");
+  const settings::ForceRates h = with("stiffness = 800.0\n");
   CHECK(h.spring == doctest::Approx(20.0).epsilon(1e-12));
-  CHECK(h.damping == doctest::Approx(3.0).epsilon(1e-12));
+  CHECK(h.damping == 0.0);
   CHECK(h.spring_element == "h");
 }
 

@@ -5,9 +5,11 @@
 // measurement"). The rule, in order:
 //   1. a scheme only IDA runs (index3, index2, ggl, baumgarte: the DAE
 //      forms; solver/integrators.hpp) -> ida;
-//   2. a stiff scene -> ida: with dt the output step, c/m * dt >
-//      kStiffDampingRateTimesOutputStep or sqrt(k/m) * dt >
-//      kStiffSpringRateTimesOutputStep, the largest over springs (m the two
+//   2. a stiff scene -> ida: with dt the output step, the fastest decay of
+//      an overdamped element (c^2 >= 4 k m: (c + sqrt(c^2 - 4 k m)) / 2m,
+//      c/m for a damper alone) times dt > kStiffDampingRateTimesOutputStep,
+//      or sqrt(k/m) * dt > kStiffSpringRateTimesOutputStep, the largest
+//      over springs (m the two
 //      bodies' reduced mass, the ground's infinite) and torsional springs
 //      and dampers (m the reduced moment of the two bodies about the joint
 //      axis through their centres of mass: at most the true one, so the
@@ -24,11 +26,12 @@ namespace rigidae::settings {
 
 // Limits of rule 2, from slider_mechanism over 0.5 s (dt = 0.01 s) with its
 // spring made stiffer or its damper stronger (docs/benchmarks.md, "Defaults
-// chosen by measurement"): arkode-erk against IDA to equal error was 0.81x
-// at c/m dt = 1.25, 3.8x at 125 and 509x at 12,500, so the damping limit
-// lies between; with the excited spring 0.29x at sqrt(k/m) dt = 11 and
-// still cheaper at 112. The spring limit is set 10x above the largest
-// case measured: where it crosses was not measured.
+// chosen by measurement"): with the damper overdamped, arkode-erk against
+// IDA to equal error was 0.81x at decay x dt = 1.24, 3.8x at 125 and 509x
+// at 12,500, so the damping limit lies between; with the stiffer spring
+// (underdamped, excited) 0.29x at sqrt(k/m) dt = 11 and still cheaper at
+// 112. The spring limit is set 10x above the largest case measured: where
+// it crosses was not measured.
 inline constexpr double kStiffDampingRateTimesOutputStep = 10.0;
 inline constexpr double kStiffSpringRateTimesOutputStep = 1000.0;
 
@@ -36,7 +39,7 @@ inline constexpr double kStiffSpringRateTimesOutputStep = 1000.0;
 // the spring or joint that sets each.
 struct ForceRates {
   double spring = 0.0;   // sqrt(k/m)
-  double damping = 0.0;  // c/m
+  double damping = 0.0;  // the fast decay of an overdamped element, at most c/m (0 when all are underdamped)
   std::string spring_element, damping_element;
 };
 ForceRates force_rates(const Scene& scene);
