@@ -164,6 +164,19 @@ def evaluations(summary):
     return c["residual_evals"] + c.get("jacobian_residual_evals", 0)
 
 
+def damped_variant(factor, d):
+    """slider_mechanism over 0.5 s with its spring's damping `factor` times larger (overdamped from 10^2:
+    a fast mode that decays, the classical stiff case)."""
+    text = open(os.path.join(ROOT, "problems", "slider_mechanism.toml")).read()
+    text = re.sub(r'^damping = 0\.5\b', f"damping = {0.5 * factor!r}", text, flags=re.M)
+    text = re.sub(r'^name = "slider_mechanism"', f'name = "slider_damped_{factor:g}"', text, flags=re.M)
+    text = re.sub(r'^end = 5\.0', "end = 0.5", text, flags=re.M)
+    path = os.path.join(d, f"slider_damped_{factor:g}.toml")
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
 def stiff_variant(factor, d):
     """slider_mechanism with its spring `factor` times stiffer, damping scaled by sqrt(factor)."""
     text = open(os.path.join(ROOT, "problems", "slider_mechanism.toml")).read()
@@ -234,10 +247,35 @@ def fmt_ms(x):
 COST = "wall_median_s"  # the ranking's cost: the integration's wall time, median of the repeats
 
 
-def cheapest(rs, integ, target):
-    ok = [r for r in rs if r["integrator"] == integ and r["status"] == "success" and r["error"] <= target
-          and r.get(COST)]
+def cheapest(rs, integ, target, schemes=None, key="error"):
+    ok = [r for r in rs if r["integrator"] == integ and r["status"] == "success" and r[key] <= target
+          and r.get(COST) and (schemes is None or r["scheme"] in schemes)]
     return min(ok, key=lambda r: r[COST]) if ok else None
+
+
+def rule_table(records, key="error"):
+    """The rule's question: on the schemes every integrator runs (index1, projection; "any" for Euler
+    angles), which integrator reaches the default run's error cheapest, and at what cost against IDA's
+    best on the same schemes. key: "error" (the largest on the grid) or "error_end" (at the end)."""
+    print()
+    print("On the schemes every integrator runs (index1, projection; `any`: no constraint), the cheapest "
+          f"setting of each integrator to the default run's error {'on the whole grid' if key == 'error' else 'at the end'} "
+          "(wall ms; `-`: not reached at any rtol swept):")
+    print()
+    print("| scene | target | " + " | ".join(INTEGRATORS) + " | cheapest | arkode-erk / ida |")
+    print("|---|---|" + "---:|" * len(INTEGRATORS) + "---|---:|")
+    for sc in dict.fromkeys(r["scene"] for r in records):
+        rs = [r for r in records if r["scene"] == sc]
+        base = next((r for r in rs if r["default"] and r["status"] == "success"), None)
+        if base is None:
+            continue
+        best = {i: cheapest(rs, i, base[key], ODE_SCHEMES + ["any"], key) for i in INTEGRATORS}
+        cells = [f"{fmt_ms(b[COST])} ({b['scheme']}, {b['rtol']:g})" if b else "-" for b in best.values()]
+        reached = [b for b in best.values() if b]
+        win = min(reached, key=lambda b: b[COST])["integrator"] if reached else "none"
+        ratio = (f"{best['arkode-erk'][COST] / best['ida'][COST]:.2f}" if best["arkode-erk"] and best["ida"]
+                 else "-")
+        print(f"| {sc} | {base[key]:.1e} {base['error_unit']} | " + " | ".join(cells) + f" | {win} | {ratio} |")
 
 
 def report(records):
@@ -283,15 +321,21 @@ def report(records):
               f"{w[COST] / base[COST]:.2f} | {erk[COST] / base[COST]:.2f} |" if erk else
               f"| {sc} | {base['own_scheme']} | {w['integrator']} | {w['scheme']}, {w['rtol']:g} | "
               f"{w[COST] / base[COST]:.2f} | not reached |")
+    rule_table(records)
+    rule_table(records, "error_end")
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
-    ap.add_argument("--scenes", default="", help="comma-separated scene names (default: every scene in problems/)")
+    ap.add_argument("--scenes", default=None,
+                    help="comma-separated scene names (default: every scene in problems/; '' for none, with --stiff or --damped)")
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--factors", default="100,10,1,0.1", help="rtol = atol = the scene's rtol times each")
     ap.add_argument("--stiff", action="store_true", help="also slider_mechanism over 0.5 s with a 1, 1e2, 1e4, 1e6 x stiffer spring")
+    ap.add_argument("--damped", action="store_true",
+                    help="also slider_mechanism over 0.5 s with its spring's damping 1e2, 1e4, 1e6 x larger")
+    ap.add_argument("--integrators", default=",".join(INTEGRATORS), help="comma-separated subset to run")
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results", "default_integrator.jsonl"))
     ap.add_argument("--report", default="", help="print the tables of this JSON-lines file and run nothing")
     a = ap.parse_args()
@@ -299,15 +343,18 @@ def main():
         report([json.loads(x) for x in open(a.report) if x.strip()])
         return
     rigidae = os.path.join(a.build, "rigidae")
+    INTEGRATORS[:] = [i for i in INTEGRATORS if i in a.integrators.split(",")]
     factors = [float(x) for x in a.factors.split(",")]
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
                             text=True).stdout.strip()
-    names = a.scenes.split(",") if a.scenes else sorted(
+    names = [n for n in a.scenes.split(",") if n] if a.scenes is not None else sorted(
         (n[:-5] for n in os.listdir(os.path.join(ROOT, "problems")) if n.endswith(".toml")),
         key=lambda n: (n in SLOW, n))
     records = []
     with tempfile.TemporaryDirectory() as d:
         jobs = [(n, os.path.join(ROOT, "problems", n + ".toml")) for n in names]
+        if a.damped:
+            jobs += [(f"slider_damped_{k:g}", damped_variant(k, d)) for k in (1e2, 1e4, 1e6)]
         if a.stiff:
             jobs += [(f"slider_stiff_{k:g}", stiff_variant(k, d)) for k in (1, 1e2, 1e4, 1e6)]
         for name, path in jobs:

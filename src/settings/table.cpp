@@ -191,9 +191,9 @@ std::vector<Setting> make_table() {
                "bodies and mechanisms), schemes "
                "index1 (plain ODE) and projection (ODE + projection; a scene file naming one of them and no "
                "scheme gets projection). Unnamed, chosen by measurement (docs/benchmarks.md): ida for a scheme "
-               "only IDA runs and for a stiff scene (a spring's or torsional spring's c/m times the output step "
-               "above 10, or its sqrt(k/m) times it above 1000), arkode-erk otherwise; summary.json's "
-               "integrator_choice says why",
+               "only IDA runs and for a stiff scene (an overdamped spring-damper's or torsional damper's decay "
+               "rate, at most c/m, times the output step above 10, or a spring's sqrt(k/m) times it above 1000), "
+               "arkode-erk otherwise; summary.json's integrator_choice says why",
        .set =
            [](Scene& s, const Value& v) {
              s.solver.integrator = word(v);
