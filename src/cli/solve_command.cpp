@@ -33,7 +33,7 @@ void print_report(const Scene& scene, const SolveOutcome& o) {
   const SolverSettings& solver = scene.solver;
   const std::string integrator =
       solver.integrator == "arkode-erk" ? solver.integrator + ":" + solver.erk_method : solver.integrator;
-  if (solver.integrator_named)
+  if (solver.integrator_named || solver.integrator_choice.empty())
     fmt::print("  integrator    {}\n", integrator);
   else
     fmt::print("  integrator    {} ({}; name [solver] integrator or --integrator to choose)\n", integrator,

@@ -3,13 +3,16 @@
 //
 // Rates of the force elements (1/s), each an upper bound on the magnitude of
 // an eigenvalue that element adds to the linearised motion:
-//   linear spring-damper   sqrt(k / m), and c / m (at most) when overdamped,   1/m = 1/m_a + 1/m_b (ground: 1/m = 0)
-//   torsional spring       sqrt(k / I), and c / I (at most) when overdamped,   1/I = 1/I_a + 1/I_b, I a body's moment
-//                                                about the joint axis through its centre of mass
+//   linear spring-damper  sqrt(k/m); overdamped (c^2 >= 4km), also the fast
+//                         decay (c + sqrt(c^2 - 4km)) / 2m <= c/m;
+//                         1/m = 1/m_a + 1/m_b (the ground: 0)
+//   torsional spring or   the same with I for m: 1/I = 1/I_a + 1/I_b, I a
+//   damper (revolute)     body's moment about the joint axis through its
+//                         centre of mass
 // An undamped oscillator has eigenvalues +-i sqrt(k/m), which an explicit
 // table must resolve only as far as the motion excites them (an excited one
-// every integrator must resolve); an overdamped one's fast eigenvalue tends
-// to -c/m, a decaying mode that bounds an explicit table's step for the
+// every integrator must resolve); an overdamped one's fast eigenvalue, up to
+// -c/m, is a decaying mode that bounds an explicit table's step for the
 // whole run: the classical stiff case. Hence two limits (measured:
 // docs/benchmarks.md). Joints and gravity add no rate here: the shipped
 // mechanisms without springs are measured non-stiff.
