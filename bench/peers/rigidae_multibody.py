@@ -4,7 +4,7 @@ and rigidae's own runs in the peers' JSON-line format.
 
     rigidae_multibody.py reference --scene chain --links 10 [--rtol 1e-12]
         [--cross linear/euler/ggl] [--rigidae build/rigidae] [--out chain_10_reference.json]
-    rigidae_multibody.py run --scene chain --links 10 --combination linear/euler/index1
+    rigidae_multibody.py run --scene chain --links 10 --combination linear/euler/index1[@arkode-erk]
         --settings 1e-6,1e-8 [--repeats 3] [--budget 5] [--reference FILE]
 
 Scenes: `chain` is `tools/make_chain.py N` (written to a temporary folder),
@@ -55,10 +55,12 @@ def scene_file(args, tmp: pathlib.Path) -> tuple[pathlib.Path, str, float]:
 
 
 def solve(rigidae: str, scene: pathlib.Path, combination: str, tol: float, t_end: float, out: pathlib.Path) -> dict:
-    c, e, s = combination.split("/")
+    # "coordinates/equations/scheme", optionally "@integrator" (ida by default).
+    formulation, _, integrator = combination.partition("@")
+    c, e, s = formulation.split("/")
     cmd = [rigidae, "solve", str(scene), "--coordinates", c, "--equations", e, "--scheme", s, "--rtol", repr(tol),
            "--atol", repr(tol), "--t-end", repr(t_end), "--output-step", repr(t_end), "--record", "grid", "--quiet",
-           "--out", str(out)]
+           "--out", str(out), "--integrator", integrator or "ida"]
     t0 = time.perf_counter()
     proc = subprocess.run(cmd, capture_output=True, text=True)
     process_s = time.perf_counter() - t0

@@ -304,14 +304,10 @@ class MultibodyRun(_RunOutcome):
                  (universal)}: the reaction on the joint's second body, in space,
                  on the grid
     joint_steps(name)  the same at every IDA step (from steps)
-    summary    with out: summary.json as the CLI writes it; without:
-               status, message, t_reached, counters, linear_solver (the one
-               used), integrator, unknowns, start_warnings, warnings (the
-               accuracy check's, as summary.json lists them),
-               multipliers_error_controlled, multipliers_error_note, build
-               (commit, dirty, date: recorded at build time) and run
-               (command_line, date) (summary.json's names). The run is the
-               CLI's: any integrator the scene or the options name
+    summary    summary.json as the CLI writes it (with out= or without): status,
+               counters, warnings, mobility, recorded parts, build and run
+               provenance, ... The run is the CLI's: any integrator the scene
+               or the options name
     out        the folder steps.csv, trajectory.csv and events.csv went to, or None
     """
 
@@ -323,15 +319,7 @@ class MultibodyRun(_RunOutcome):
         self.bodies = list(raw["bodies"])
         self.joints = list(raw["joints"])
         self.units = dict(zip(raw["grid_columns"], raw["grid_units"]))
-        if raw["summary"]:  # written to out: summary.json itself
-            self.summary = json.loads(raw["summary"])
-        else:
-            self.summary = {k: raw[k] for k in ("status", "message", "t_reached", "linear_solver", "integrator",
-                                                "unknowns", "start_warnings", "multipliers_error_controlled",
-                                                "multipliers_error_note")}
-            self.summary["counters"] = dict(raw["counters"])
-            self.summary["warnings"] = json.loads(raw["warnings"])
-            self.summary.update(json.loads(raw["provenance"]))  # "build" and "run", as summary.json has them
+        self.summary = json.loads(raw["summary"])  # summary.json, written to out or not
         record = raw["record"]
         self.steps = _structured(raw["step_columns"], raw["steps"], [], ("order",)) if record == "steps" else None
         self.grid = _structured(raw["grid_columns"], raw["grid"], [], ()) if record != "none" else None

@@ -17,13 +17,13 @@
 #include <algorithm>
 #include <cmath>
 #include <csignal>
+#include <limits>
 #include <cstring>
 #include <fstream>
 #include <iterator>
 #include <filesystem>
 #include <optional>
 
-#include "memory_recorder.hpp"
 #include "rigidae/app/command_line.hpp"
 #include "rigidae/app/compare.hpp"
 #include "rigidae/app/provenance.hpp"
@@ -33,9 +33,10 @@
 #include "rigidae/core/error.hpp"
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"
+#include "rigidae/model/recorded_parts.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
 #include "rigidae/record/error_control.hpp"
-#include "rigidae/record/multibody_recorder.hpp"
+#include "rigidae/record/recorder.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/record/columns.hpp"
 #include "rigidae/settings/default_integrator.hpp"
@@ -144,192 +145,94 @@ py::list scene_options(const std::string& command) {
   return out;
 }
 
-py::dict solve(const Scene& scene, const std::string& record, const std::optional<std::string>& out) {
+// Which rows a run keeps in memory: record = steps (both), grid, none.
+MemoryRows memory_rows(const std::string& record) {
   if (record != "steps" && record != "grid" && record != "none")
     throw InputError(fmt::format("record='{}' is not valid (valid: 'steps', 'grid' or 'none')", record));
-  std::optional<fs::path> out_dir;
-  if (out) {
-    out_dir = fs::path(*out);
-    std::error_code ec;
-    fs::create_directories(*out_dir, ec);
-    if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", out_dir->string(), ec.message()));
-  }
-  std::unique_ptr<python::MemoryRecorder> memory;
-  std::unique_ptr<RunRecorder> files;
-  std::unique_ptr<python::TeeSink> tee;
+  MemoryRows rows;
+  rows.keep_steps = record == "steps";
+  rows.keep_grid = record != "none";
+  return rows;
+}
+
+// An event field events.csv leaves empty: NaN.
+double or_nan(double x, bool given) { return given ? x : std::numeric_limits<double>::quiet_NaN(); }
+
+// A one-body run held in memory (and written to `out` when given): the CLI's
+// run (app/solve.hpp, run_scene) with the rows kept by the recorder.
+py::dict solve(const Scene& scene, const std::string& record, const std::optional<std::string>& out) {
+  MemoryRows memory = memory_rows(record);
   SolveOutcome o;
-  std::string summary;
   bool interrupted = false;
   {
     InterruptScope interrupt;
     py::gil_scoped_release release;
-    o = solve_with(scene, [&](const OneBodyView& problem) {
-      memory = std::make_unique<python::MemoryRecorder>(problem, scene, record == "steps", record != "none");
-      if (!out_dir) return RunSink{memory.get(), {}};
-      files = std::make_unique<RunRecorder>(problem, scene, *out_dir);
-      tee = std::make_unique<python::TeeSink>(*files, *memory);
-      return RunSink{tee.get(), [&] { files->close(); }};
-    });
-    if (out_dir) {
-      o.out_dir = *out_dir;
-      write_summary(*out_dir / "summary.json", scene, o);
-    }
-    summary = summary_json(scene, o);
+    o = run_scene(scene, out ? fs::path(*out) : fs::path(), &memory);
     interrupted = interrupt.interrupted();
   }
+  // The events a single body's events.csv holds, its fields empty (NaN) where the file leaves them so.
   py::list events;
-  for (const auto& e : memory->events())
-    events.append(py::make_tuple(e.t, e.event, e.from, e.to, e.margin, e.drift_position, e.drift_velocity));
+  for (const EventNote& e : memory.events) {
+    const bool chart = e.what == "chart_switch";
+    if (!chart && e.what != "projection") continue;
+    events.append(py::make_tuple(e.t, e.what, chart ? e.from : "", chart ? e.to : "", or_nan(e.margin, chart),
+                                 or_nan(e.drift_position, !chart), or_nan(e.drift_velocity, !chart)));
+  }
   py::dict r;
-  r["summary"] = summary;
+  r["summary"] = o.summary;
   r["status"] = to_string(o.run.status);
   r["message"] = o.run.message;
   r["interrupted"] = interrupted;
   r["record"] = record;
-  r["step_columns"] = memory->step_columns();
-  r["grid_columns"] = memory->grid_columns();
-  r["integer_columns"] = memory->integer_columns();
-  r["steps"] = table(memory->steps(), memory->step_columns().size());
-  r["grid"] = table(memory->grid(), memory->grid_columns().size());
-  r["charts"] = memory->chart_names();
+  r["step_columns"] = memory.step_columns;
+  r["grid_columns"] = memory.grid_columns;
+  r["integer_columns"] = memory.integer_columns;
+  r["steps"] = table(memory.steps, memory.step_columns.size());
+  r["grid"] = table(memory.grid, memory.grid_columns.size());
+  r["charts"] = memory.charts;
   r["events"] = events;
   r["out"] = out ? py::cast(*out) : py::object(py::none());
   return r;
 }
 
-// A multibody run held in memory: per step (the columns of steps.csv: t, h,
-// order, drift, energy and its error, then the recorded parts' multipliers,
-// reactions and drift) and on the output grid (t and
-// MultibodyProblem::output_row, as trajectory.csv), forwarded to the file
-// recorder when there is one.
-class MultibodyMemory final : public StepSink {
- public:
-  MultibodyMemory(multibody::MultibodyProblem& p, bool steps, bool grid, StepSink* files)
-      : p_(p), keep_steps_(steps), keep_grid_(grid), files_(files), step_parts_(recorded_parts(p.spec())),
-        grid_parts_(recorded_parts(p.spec(), false)), part_row_(p.step_part_names(step_parts_).size()),
-        row_(p.output_names(grid_parts_).size()) {}
-  void on_step(double t, double h, int order, const Eigen::VectorXd& y) override {
-    if (files_) files_->on_step(t, h, order, y);
-    if (!keep_steps_) return;
-    const auto [pos, vel] = p_.drift(t, y.data());
-    const double H = p_.kinetic_energy(y.data()) + p_.potential_energy(y.data());
-    if (!have_H0_) H0_ = H, have_H0_ = true;
-    steps_.insert(steps_.end(), {t, h, static_cast<double>(order), pos, vel, H, (H - H0_) / std::max(std::abs(H0_), 1.0)});
-    if (!part_row_.empty()) p_.step_part_row(t, y.data(), step_parts_, part_row_.data());
-    steps_.insert(steps_.end(), part_row_.begin(), part_row_.end());
-  }
-  void on_output(double t, const Eigen::VectorXd& y) override {
-    if (files_) files_->on_output(t, y);
-    if (!have_H0_) H0_ = p_.kinetic_energy(y.data()) + p_.potential_energy(y.data()), have_H0_ = true;
-    if (!keep_grid_) return;
-    p_.output_row(t, y.data(), grid_parts_, row_.data());
-    grid_.push_back(t);
-    grid_.insert(grid_.end(), row_.begin(), row_.end());
-  }
-  void on_event(const EventNote& n) override {
-    if (files_) files_->on_event(n);
-    events_.push_back(n);
-  }
-  std::vector<std::string> step_columns() const {
-    std::vector<std::string> c{"t", "h", "order", "drift_position", "drift_velocity", "energy", "energy_rel_error"};
-    for (const std::string& n : p_.step_part_names(step_parts_)) c.push_back(n);
-    return c;
-  }
-  const RecordedParts& grid_parts() const { return grid_parts_; }
-  std::vector<double> steps_, grid_;
-  std::vector<EventNote> events_;
-
- private:
-  multibody::MultibodyProblem& p_;
-  bool keep_steps_, keep_grid_;
-  StepSink* files_;
-  RecordedParts step_parts_, grid_parts_;
-  std::vector<double> part_row_, row_;
-  double H0_ = 0.0;
-  bool have_H0_ = false;
-};
-
+// A multibody run held in memory (and written to `out` when given): the same
+// run, per step the columns of steps.csv and on the output grid those of
+// trajectory.csv, with the names and units read off the assembled system.
 py::dict solve_multibody(const Scene& scene, const std::string& record, const std::optional<std::string>& out) {
-  if (record != "steps" && record != "grid" && record != "none")
-    throw InputError(fmt::format("record='{}' is not valid (valid: 'steps', 'grid' or 'none')", record));
-  // The run is the CLI's (app/solve.hpp): the integrator the scene names,
-  // the accuracy check; with `out` also its files and summary.json. The
-  // memory sits beside the files; what it reads of the problem is taken
-  // while the problem lives.
-  std::unique_ptr<MultibodyMemory> memory;
-  std::vector<std::string> grid_columns{"t"}, units{"s"}, bodies, joints, step_columns;
-  const MultibodySinkAttach attach = [&](multibody::MultibodyProblem& problem) -> StepSink* {
-    memory = std::make_unique<MultibodyMemory>(problem, record == "steps", record != "none", nullptr);
-    for (const std::string& n : problem.output_names(memory->grid_parts())) grid_columns.push_back(n);
-    for (const std::string& u : problem.output_units(memory->grid_parts())) units.push_back(u);
+  MemoryRows memory = memory_rows(record);
+  std::vector<std::string> units{"s"}, bodies, joints;
+  const auto names = [&](const multibody::MultibodyProblem& problem) -> StepSink* {
+    for (const std::string& u : problem.output_units(recorded_parts(problem.spec(), false))) units.push_back(u);
     for (const auto& b : problem.bodies()) bodies.push_back(b.name);
     for (const auto& j : problem.spec().joints) joints.push_back(j.name);
-    step_columns = memory->step_columns();
-    return memory.get();
+    return nullptr;
   };
   SolveOutcome o;
-  std::string summary;
   bool interrupted = false;
   {
     InterruptScope interrupt;
     py::gil_scoped_release release;
-    if (out) {
-      o = solve_multibody_with(scene, fs::path(*out), attach);
-      std::ifstream f(fs::path(*out) / "summary.json");
-      summary.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-    } else {
-      o = solve_multibody_in_memory(scene, attach);
-    }
+    o = run_scene(scene, out ? fs::path(*out) : fs::path(), &memory, names);
     interrupted = interrupt.interrupted();
   }
   py::list events;
-  for (const EventNote& e : memory->events_)
+  for (const EventNote& e : memory.events)
     events.append(py::make_tuple(e.t, e.what, e.body, e.from, e.to, e.margin, e.drift_position, e.drift_velocity));
-  const IdaCounters& c = o.run.counters;
-  py::dict counters;
-  counters["steps"] = c.steps;
-  counters["residual_evals"] = c.residual_evals;
-  counters["jacobian_evals"] = c.jacobian_evals;
-  counters["nonlinear_iters"] = c.nonlinear_iters;
-  counters["nonlinear_conv_fails"] = c.nonlinear_conv_fails;
-  counters["error_test_fails"] = c.error_test_fails;
-  counters["projections"] = c.projections;
   py::dict r;
   r["status"] = to_string(o.run.status);
   r["message"] = o.run.message;
   r["interrupted"] = interrupted;
-  r["t_reached"] = o.run.t_reached;
-  r["linear_solver"] = o.run.linear_solver;
-  r["integrator"] = scene.solver.integrator;
-  r["counters"] = counters;
-  r["unknowns"] = o.unknowns;
-  r["start_warnings"] = o.start_warnings;  // as summary.json names them
-  nlohmann::json warnings = nlohmann::json::array();  // the accuracy check's, as summary.json has them
-  for (const AccuracyWarning& w : o.warnings)
-    warnings.push_back({{"quantity", w.quantity},
-                        {"drift", w.drift},
-                        {"limit", w.limit},
-                        {"factor", w.factor},
-                        {"tolerance", w.tolerance},
-                        {"message", w.message}});
-  r["warnings"] = warnings.dump();
   r["bodies"] = bodies;
   r["joints"] = joints;
   r["record"] = record;
-  r["step_columns"] = step_columns;
-  r["steps"] = table(memory->steps_, step_columns.size());
-  r["multipliers_error_controlled"] = o.multipliers_error.controlled;  // as summary.json names them
-  r["multipliers_error_note"] = o.multipliers_error.note;
-  r["grid_columns"] = grid_columns;
+  r["step_columns"] = memory.step_columns;
+  r["steps"] = table(memory.steps, memory.step_columns.size());
+  r["grid_columns"] = memory.grid_columns;
   r["grid_units"] = units;
-  r["grid"] = table(memory->grid_, grid_columns.size());
+  r["grid"] = table(memory.grid, memory.grid_columns.size());
   r["events"] = events;
   r["out"] = out ? py::cast(*out) : py::object(py::none());
-  r["summary"] = summary;  // summary.json's text when written (out), else empty
-  // summary.json's "build" and "run" (this call's time).
-  nlohmann::json provenance;
-  add_provenance(provenance);
-  r["provenance"] = provenance.dump();
+  r["summary"] = o.summary;  // summary.json's text
   return r;
 }
 

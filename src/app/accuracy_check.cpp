@@ -40,8 +40,9 @@ constexpr double kConstraintPerStepLimit = 10.0;
 
 }  // namespace
 
-InvariantMonitor::InvariantMonitor(const OneBodyView& problem, const Scene& scene, RecordingSink& recorder)
-    : recorder_(recorder), body_(problem.body()) {
+InvariantMonitor::InvariantMonitor(const OneBodyView& problem, const Scene& scene, const RunRecorder& recorder,
+                                   StepSink& next)
+    : recorder_(recorder), next_(next), body_(problem.body()) {
   d_ = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
   constrained_ = problem.representation().nc() > 0;
   const RigidBodyModel& b = body_;
@@ -64,7 +65,7 @@ InvariantMonitor::InvariantMonitor(const OneBodyView& problem, const Scene& scen
 }
 
 void InvariantMonitor::on_step(double t, double h, int order, const Eigen::VectorXd& y) {
-  recorder_.on_step(t, h, order, y);
+  next_.on_step(t, h, order, y);
   ++steps_;
   const Observation& o = recorder_.extremes().last;  // this step's, just observed
   d_.energy = std::max(d_.energy, std::abs(o.energy - e0_) / e_scale_);

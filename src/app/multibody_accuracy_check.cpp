@@ -96,3 +96,14 @@ std::vector<AccuracyWarning> MultibodyInvariantMonitor::warnings() const {
 }
 
 }  // namespace rigidae
+
+namespace rigidae {
+
+std::unique_ptr<RunMonitor> make_run_monitor(multibody::MultibodyProblem& system, const Scene& scene,
+                                             const RunRecorder& recorder, StepSink& next) {
+  if (const OneBodyView* one = recorder.columns().one_body())
+    return std::make_unique<InvariantMonitor>(*one, scene, recorder, next);
+  return std::make_unique<MultibodyInvariantMonitor>(system, scene, &next);
+}
+
+}  // namespace rigidae

@@ -1,6 +1,6 @@
 #include "rigidae/app/solve.hpp"
 
-#include "solve_multibody.hpp"
+#include "run_system.hpp"
 #include "counters_json.hpp"
 #include "summary_common.hpp"
 #include "machine_record.hpp"
@@ -21,6 +21,7 @@
 #include "rigidae/multibody/one_body_view.hpp"
 #include "rigidae/io/checked_file.hpp"
 #include "rigidae/record/columns.hpp"
+#include "rigidae/record/run_columns.hpp"
 #include "rigidae/settings/settings.hpp"
 #include "rigidae/so3/rotation.hpp"
 #include "rigidae/solver/version.hpp"
@@ -28,14 +29,6 @@
 namespace rigidae {
 
 namespace {
-
-nlohmann::json vec_json(const Eigen::Ref<const Eigen::VectorXd>& v) {
-  return std::vector<double>(v.data(), v.data() + v.size());
-}
-
-nlohmann::json mat_json(const Mat3& M) {
-  return {vec_json(M.row(0).transpose()), vec_json(M.row(1).transpose()), vec_json(M.row(2).transpose())};
-}
 
 // A parameter as the scheme used it; a scheme that does not use it leaves
 // the scene's setting (null when unset: the default is resolved by the
@@ -47,21 +40,10 @@ nlohmann::json used_or_set(const std::vector<SchemeParameter>& used, const std::
   return set ? nlohmann::json(*set) : nlohmann::json(nullptr);
 }
 
-// The scene's body and initial state, then every run setting of the table
-// (rigidae/settings) at its dotted key, and the scheme's parameters as the
-// scheme used them.
+// Every run setting of the table (rigidae/settings) at its dotted key, and
+// the scheme's parameters as the scheme used them.
 nlohmann::json configuration_json(const Scene& s, const std::vector<SchemeParameter>& used) {
-  nlohmann::json j = {
-      {"scene", s.source},
-      {"name", s.name},
-      {"body",
-       {{"mass_kg", s.body.mass},
-        {"inertia_com_kg_m2", mat_json(s.body.inertia_com)},
-        {"center_of_mass_m", vec_json(s.body.com_B)}}},
-      {"support", s.support == Support::FixedPoint ? "fixed_point" : "free"},
-      {"gravity_m_s2", vec_json(s.gravity_W)},
-      {"initial", {{"R_WB", mat_json(s.R0_WB)}, {"omega_B_rad_s", vec_json(s.omega0_B)}}},
-  };
+  nlohmann::json j = {{"scene", s.source}, {"name", s.name}};
   for (const settings::Setting& setting : settings::all()) {
     if (setting.scene_key.empty() || !setting.get) continue;
     nlohmann::json value;
@@ -77,23 +59,10 @@ nlohmann::json configuration_json(const Scene& s, const std::vector<SchemeParame
   return j;
 }
 
-// The last observation as the columns of trajectory.csv (record/columns.hpp).
-nlohmann::json final_row_json(const Observation& o, const std::vector<std::string>& multiplier_names) {
-  nlohmann::json j = nlohmann::json::object();
-  const columns::Sample sample{o.t, 0.0, 0, &o, {}, {}};
-  for (const columns::Column& c : columns::all()) {
-    if (!(c.files & columns::kTrajectory)) continue;
-    if (c.kind == columns::Kind::Real) j[std::string(c.name)] = c.value(sample);
-    if (c.kind == columns::Kind::Multipliers)
-      for (std::size_t i = 0; i < multiplier_names.size(); ++i) j[multiplier_names[i]] = o.multipliers(static_cast<int>(i));
-  }
-  return j;
-}
-
 // JSON has no NaN: a measure not checked is null.
 nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 
-nlohmann::json accuracy_check_json(const SolveOutcome& o) {
+nlohmann::json accuracy_check_json(const SolveOutcome& o, const RunMonitor& monitor) {
   const InvariantDrifts& d = o.drifts;
   return {{"tolerance", d.tolerance},
           {"energy", number_or_null(d.energy)},
@@ -101,68 +70,41 @@ nlohmann::json accuracy_check_json(const SolveOutcome& o) {
           {"vertical_angular_momentum", number_or_null(d.vertical_angular_momentum)},
           {"constraint_position", number_or_null(d.constraint_position)},
           {"constraint_velocity", number_or_null(d.constraint_velocity)},
-          {"steps", o.extremes.steps_recorded},
-          {"definitions", "maxima over the steps; see include/rigidae/app/accuracy_check.hpp"}};
+          {"steps", monitor.steps()},
+          {"definitions", monitor.definitions()}};
 }
 
-// The energy at the start (kinetic plus potential about the reference point).
-double initial_energy(const Scene& scene) {
-  const RigidBodyModel b = make_rigid_body_model(scene);
-  return b.kinetic_energy(scene.omega0_B) + b.potential_energy(scene.R0_WB);
-}
-
-nlohmann::json summary(const Scene& scene, const SolveOutcome& o) {
-  const Observation& f = o.extremes.last;
-  nlohmann::json multipliers = nlohmann::json::object();
-  for (std::size_t i = 0; i < o.multiplier_names.size(); ++i) {
-    const bool seen = o.extremes.steps_recorded > 0;
-    multipliers[o.multiplier_names[i]] = {{"min", seen ? o.extremes.multiplier_min(i) : 0.0},
-                                          {"max", seen ? o.extremes.multiplier_max(i) : 0.0},
-                                          {"final", f.multipliers(i)}};
-  }
+// summary.json: the keys every run shares (summary_common.hpp), then those
+// its column set adds (record/run_columns.hpp).
+nlohmann::json summary(const Scene& scene, const SolveOutcome& o, const RunColumns& columns, const RunMonitor& monitor) {
+  const RunExtremes& x = o.extremes;
+  const Observation& f = x.last;
   nlohmann::json switches = nlohmann::json::array();
   for (const auto& s : o.run.switches) switches.push_back({{"t", s.t}, {"from", s.from}, {"to", s.to}, {"margin", s.margin}});
-
-  // The keys both summaries share (summary_common.hpp), then a single body's own.
   nlohmann::json j = common_summary_json(scene, o);
   j.update({
       {"configuration", configuration_json(scene, o.scheme_parameters)},
       {"chart_switches", switches},  // the first kSwitchesKept; events.csv has them all
       {"maxima",
-       {{"drift_position", o.extremes.max_drift_position},
-        {"drift_velocity", o.extremes.max_drift_velocity},
-        {"abs_energy_rel_error", o.extremes.max_abs_energy_error},
-        {"abs_vertical_momentum_rel_error", o.extremes.max_abs_vertical_momentum_error}}},
-      {"multipliers", multipliers},
-      {"accuracy_check", accuracy_check_json(o)},
+       {{"drift_position", x.max_drift_position},
+        {"drift_velocity", x.max_drift_velocity},
+        {"abs_energy_rel_error", x.max_abs_energy_error}}},
+      {"accuracy_check", accuracy_check_json(o, monitor)},
       {"final",
-       {{"t", f.t},
-        {"q_WB", vec_json(f.q_WB)},
-        {"omega_B", vec_json(f.omega_B)},
+       {{"t", x.steps_recorded > 0 ? f.t : o.run.t_reached},
         {"drift_position", f.drift.position},
         {"drift_velocity", f.drift.velocity},
         {"energy", f.energy},
         {"energy_rel_error", f.energy_error},
-        {"initial_energy", initial_energy(scene)},
-        {"vertical_momentum", f.vertical_momentum},
-        {"vertical_momentum_rel_error", f.vertical_momentum_error}}},
-      {"final_row", final_row_json(f, o.multiplier_names)},
-      {"columns_units", columns::units_line().substr(2)},
+        {"initial_energy", columns.initial_energy()}}},
+      {"columns_units", columns.units_line(columns::kSteps).substr(2)},
   });
+  columns.add_summary(j, x);
   add_provenance(j);  // "build" and "run"
   return j;
 }
 
 }  // namespace
-
-std::string summary_json(const Scene& scene, const SolveOutcome& o) {
-  // A path from the command line need not be UTF-8; JSON must be: invalid bytes become U+FFFD.
-  return summary(scene, o).dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
-}
-
-void write_summary(const std::filesystem::path& path, const Scene& scene, const SolveOutcome& o) {
-  write_file_atomically(path, summary_json(scene, o) + '\n');
-}
 
 std::string default_run_name(const Scene& scene) {
   return fmt::format("{}-{}-{}-{}", scene.name.empty() ? "scene" : scene.name,
@@ -171,81 +113,130 @@ std::string default_run_name(const Scene& scene) {
 }
 
 SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_dir) {
-  if (scene.multibody) return solve_multibody_scene(scene, out_dir);
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", out_dir.string(), ec.message()));
-
-  std::unique_ptr<RunRecorder> recorder;
-  SolveOutcome o = solve_with(scene, [&](const OneBodyView& problem) {
-    recorder = std::make_unique<RunRecorder>(problem, scene, out_dir);
-    return RunSink{recorder.get(), [&] { recorder->close(); }};
-  });
-  o.out_dir = out_dir;
-  try {
-    write_summary(out_dir / "summary.json", scene, o);
-  } catch (const OutputError& e) {
-    // On a full disk the summary fails after the step file did: the file that
-    // failed first (the CSV) is the cause and is named first.
-    if (o.output_lost) throw OutputError(fmt::format("{}; summary.json could not be written either: {}",
-                                                     o.run.message, e.what()));
-    throw;
-  }
-  if (o.output_lost) throw OutputError(o.run.message);
-  return o;
+  return run_scene(scene, out_dir);
 }
 
-SolveOutcome solve_with(const Scene& scene, const std::function<RunSink(const OneBodyView&)>& attach) {
-  // The scene as a system of one pivoted body (model/one_body_system.hpp),
-  // the model every scene runs on; the view reads it as the one-body records do.
-  const Scene system_scene = one_body_system(scene);
+namespace {
+
+// Singular poses passed (multibody/row_subset.cpp): the branch may have changed.
+void add_singular_pose_warning(const multibody::MultibodyProblem& problem, SolveOutcome& o) {
+  if (problem.singular_poses().empty()) return;
+  const multibody::SingularPose& first = problem.singular_poses().front();
+  AccuracyWarning w;
+  w.quantity = "singular_pose";
+  w.drift = first.condition;
+  w.message = fmt::format(
+      "the run passed {} singular pose(s) (first at t = {:.9g} s, joints {}), where the constraint rows nearly lose "
+      "rank and assembly branches cross; the motion may have continued on another branch "
+      "(rigidae has no general branch check: compare with a closed form or the mechanism's known branch; "
+      "events.csv lists them as singular_pose)",
+      problem.singular_poses().size(), first.t, first.joints);
+  o.warnings.push_back(w);
+}
+
+// Every step, output point and event to two sinks (the recorder, then `second`).
+class TeeSink final : public StepSink {
+ public:
+  TeeSink(StepSink& first, StepSink& second) : first_(first), second_(second) {}
+  void on_step(double t, double h, int order, const Eigen::VectorXd& y) override {
+    first_.on_step(t, h, order, y);
+    second_.on_step(t, h, order, y);
+  }
+  void on_output(double t, const Eigen::VectorXd& y) override {
+    first_.on_output(t, y);
+    second_.on_output(t, y);
+  }
+  void on_event(const EventNote& note) override {
+    first_.on_event(note);
+    second_.on_event(note);
+  }
+
+ private:
+  StepSink &first_, &second_;
+};
+
+}  // namespace
+
+SolveOutcome run_scene(const Scene& scene, const std::filesystem::path& out_dir, MemoryRows* memory,
+                       const std::function<StepSink*(const multibody::MultibodyProblem&)>& also) {
+  // Every scene runs as a system of bodies (model/one_body_system.hpp for a
+  // one-body scene): one model, one recorder, one accuracy check, one summary.
+  const Scene system_scene = as_system(scene);
   check_multibody_integrator(system_scene);
+  if (!out_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(out_dir, ec);
+    if (ec) throw InputError(fmt::format("{}: cannot create output folder: {}", out_dir.string(), ec.message()));
+  }
   multibody::MultibodyProblem system(system_scene);
-  const OneBodyView view(system, scene);
-  // What the scheme says of itself on this representation (its note, the
-  // parameters it used): the registry's scheme, which writes the rows.
-  const std::unique_ptr<ConstraintScheme> scheme = make_scheme(scene.formulation.scheme, scheme_settings(scene));
+  const std::unique_ptr<RunColumns> columns = make_run_columns(system, system_scene);
+  // What the scheme says of itself on the first body's representation (its
+  // note, the parameters it used): the registry's scheme, which writes the rows.
+  const std::unique_ptr<ConstraintScheme> scheme =
+      make_scheme(system_scene.formulation.scheme, scheme_settings(system_scene));
   SolveOutcome o;
-  o.representation = view.representation().name();
+  o.out_dir = out_dir;
+  o.representation = columns->one_body() ? columns->one_body()->representation().name()
+                                         : to_string(scene.formulation.coordinates) + "/" + to_string(scene.formulation.equations);
   o.scheme = scheme->name();
-  o.note = scheme->note(view.representation());
-  o.multiplier_names = view.multiplier_names();
+  o.note = columns->note(scheme->note(*system.bodies().front().rep));
+  if (const OneBodyView* one = columns->one_body()) o.multiplier_names = one->multiplier_names();
   o.unknowns = system.size();
   o.scheme_parameters = scheme->parameters();
   o.multipliers_error =
       multiplier_error_control(scene.solver.integrator, system.suppress_algebraic_error_test(), o.scheme);
 
-  const RunSink recording = attach(view);
-  RecordingSink& recorder = *recording.sink;
-  InvariantMonitor monitor(view, scene, recorder);
+  RunRecorder recorder(*columns, scene.output, scene.time, out_dir, memory);
+  StepSink* extra = also ? also(system) : nullptr;
+  std::optional<TeeSink> tee;
+  if (extra) tee.emplace(recorder, *extra);
+  const std::unique_ptr<RunMonitor> monitor =
+      make_run_monitor(system, system_scene, recorder, tee ? static_cast<StepSink&>(*tee) : recorder);
   const auto t0 = std::chrono::steady_clock::now();
   std::string lost;  // the first output file that could not be written completely
   try {
-    o.run = run_multibody(system, system_scene, monitor);
+    o.run = run_multibody(system, system_scene, *monitor);
   } catch (const SolverError& e) {
     o.run.status = RunStatus::Failed;
     o.run.message = e.what();
-  } catch (const OutputError& e) {
+  } catch (const OutputError& e) {  // a step or grid file refused a write (a full disk): kept, and said
     lost = e.what();
   }
   o.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   try {
-    if (recording.close) recording.close();
+    recorder.close();
   } catch (const OutputError& e) {
     if (lost.empty()) lost = e.what();
   }
   o.extremes = recorder.extremes();
-  o.drifts = monitor.drifts();
-  o.warnings = monitor.warnings();
+  o.drifts = monitor->drifts();
+  o.warnings = monitor->warnings();
+  add_singular_pose_warning(system, o);
+  o.start_warnings = system.warnings();  // printed by the command (solve: each run; compare: once)
+  o.final_report = columns->final_report(o.extremes, o.run.t_reached);
   if (!lost.empty()) {
     // Results that did not reach the disk are no success, however the solver fared.
     o.output_lost = true;
     o.run.status = RunStatus::Failed;
     o.run.t_reached = o.extremes.last.t;
-    o.run.message = fmt::format("output lost: {}; the run stopped there (last recorded t = {:.9g} s) and what "
-                                "was written is kept",
-                                lost, o.extremes.last.t);
+    o.run.message = fmt::format("output lost: {}; the run stopped there (last recorded t = {:.9g} s, {} steps "
+                                "recorded) and what was written is kept",
+                                lost, o.extremes.last.t, o.extremes.steps_recorded);
   }
+  // A path from the command line need not be UTF-8; JSON must be: invalid bytes become U+FFFD.
+  o.summary = summary(scene, o, *columns, *monitor).dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+  if (!out_dir.empty()) {
+    try {
+      write_file_atomically(out_dir / "summary.json", o.summary + '\n');
+    } catch (const OutputError& e) {
+      // On a full disk the summary fails after the step file did: the file that
+      // failed first (the CSV) is the cause and is named first.
+      if (o.output_lost) throw OutputError(fmt::format("{}; summary.json could not be written either: {}",
+                                                       o.run.message, e.what()));
+      throw;
+    }
+  }
+  if (o.output_lost) throw OutputError(o.run.message);
   return o;
 }
 

@@ -1,10 +1,11 @@
 #pragma once
 // The keys every summary.json carries, one body or many, under one name
 // each: what was run (scene, formulation, integrator and tolerances), how it
-// ended, what it cost, and how far its multipliers can be trusted. Both
-// summary writers (solve.cpp, solve_multibody.cpp) start from this object and
-// add what applies to them only; a key that does not apply is absent, never
-// renamed (tests/unit/test_summary_schema.cpp checks both).
+// ended, what it cost, and how far its multipliers can be trusted. The one
+// summary writer (solve.cpp) starts from this object, adds the keys of every
+// run and then those of its column set (record/run_columns.hpp); a key
+// that does not apply is absent, never renamed
+// (tests/unit/test_summary_schema.cpp checks both kinds of run).
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 

@@ -11,14 +11,14 @@
 #include "rigidae/model/one_body_system.hpp"
 #include "rigidae/record/recorder.hpp"
 #include "rigidae/so3/rotation.hpp"
-#include "solve_multibody.hpp"
+#include "run_system.hpp"
 
 namespace rigidae {
 
 namespace {
 
 // Keeps the last output state (a copy into storage sized once) and nothing else.
-class LastOutput final : public RecordingSink {
+class LastOutput final : public StepSink {
  public:
   void on_step(double, double, int, const Eigen::VectorXd&) override {}
   void on_output(double t, const Eigen::VectorXd& y) override {
@@ -27,13 +27,9 @@ class LastOutput final : public RecordingSink {
   }
   void on_event(const EventNote&) override {}
   bool needs_every_output() const override { return false; }  // the drivers skip the other grid points
-  const RunExtremes& extremes() const override { return extremes_; }
 
   double t_ = 0.0;
   Eigen::VectorXd y_;
-
- private:
-  RunExtremes extremes_;  // none kept: the accuracy check of a timed run is not used
 };
 
 // Every scene runs as a system of bodies (a one-body scene as one pivoted

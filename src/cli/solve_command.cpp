@@ -26,7 +26,6 @@ std::string recorded_files(const OutputSettings& out) {
 void print_report(const Scene& scene, const SolveOutcome& o) {
   const RunResult& r = o.run;
   const IdaCounters& c = r.counters;
-  const Observation& f = o.extremes.last;
   fmt::print("rigidae {}: {} ({})\n", RIGIDAE_VERSION, scene.name, scene.source);
   fmt::print("  formulation   {} with scheme {}\n", o.representation, o.scheme);
   if (!o.note.empty()) fmt::print("  note          {}\n", o.note);
@@ -45,25 +44,7 @@ void print_report(const Scene& scene, const SolveOutcome& o) {
              c.steps, c.residual_evals + c.jacobian_residual_evals, c.jacobian_residual_evals, c.jacobian_evals,
              o.wall_seconds);
   fmt::print("  failures      {} error-test, {} Newton convergence\n", c.error_test_fails, c.nonlinear_conv_fails);
-  if (scene.multibody) {
-    // Many bodies: no one body's final state to print; each body's is in
-    // trajectory.csv, and a vertical momentum is not tracked.
-    fmt::print("  final t       {:.9g} s (each body's state: trajectory.csv)\n", r.t_reached);
-    fmt::print("  max drift     position {:.2e}, velocity {:.2e}\n", o.extremes.max_drift_position,
-               o.extremes.max_drift_velocity);
-    fmt::print("  invariants    max |energy rel. error| {:.2e}\n", o.extremes.max_abs_energy_error);
-  } else {
-    fmt::print("  final t       {:.9g} s\n", f.t);
-    fmt::print("  final q_WB    ({:.8f}, {:.8f}, {:.8f}, {:.8f})\n", f.q_WB(0), f.q_WB(1), f.q_WB(2), f.q_WB(3));
-    fmt::print("  final omega_B ({:.6f}, {:.6f}, {:.6f}) rad/s\n", f.omega_B(0), f.omega_B(1), f.omega_B(2));
-    fmt::print("  max drift     position {:.2e}, velocity {:.2e}\n", o.extremes.max_drift_position,
-               o.extremes.max_drift_velocity);
-    fmt::print("  invariants    max |energy rel. error| {:.2e}, max |vertical momentum rel. error| {:.2e}\n",
-               o.extremes.max_abs_energy_error, o.extremes.max_abs_vertical_momentum_error);
-  }
-  for (std::size_t i = 0; i < o.multiplier_names.size() && o.extremes.steps_recorded > 0; ++i)
-    fmt::print("  multiplier    {} in [{:.4g}, {:.4g}]\n", o.multiplier_names[i], o.extremes.multiplier_min(i),
-               o.extremes.multiplier_max(i));
+  fmt::print("{}", o.final_report);
   if (!r.switches.empty())
     fmt::print("  charts        {} switches; first at t = {:.6g} s ({} -> {})\n", r.switch_count, r.switches.front().t,
                r.switches.front().from, r.switches.front().to);

@@ -19,6 +19,7 @@ Scene one_body_system(const Scene& s) {
   MultibodySpec m;
   m.bodies.push_back(b);
   m.gravity_W = s.gravity_W;
+  m.one_body_scene = true;
   out.multibody = std::move(m);
   return out;
 }

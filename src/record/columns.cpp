@@ -222,6 +222,29 @@ void append_binary_row(fmt::memory_buffer& b, const Table& table, File file, con
     append_binary_row_of(b, table.columns, file, s, with_chart);
 }
 
+void append_numbers(std::vector<double>& row, const Table& table, File file, const Sample& s, bool with_chart,
+                    std::vector<std::string>& charts) {
+  for (const Column& c : table.columns) {
+    if (!shown(c, file, with_chart)) continue;
+    switch (c.kind) {
+      case Kind::Real: row.push_back(c.value(s)); break;
+      case Kind::Integer: row.push_back(static_cast<double>(c.integer(s))); break;
+      case Kind::Multipliers: {
+        const auto& m = s.observation->multipliers;
+        for (int i = 0; i < m.size(); ++i) row.push_back(m(i));
+        break;
+      }
+      case Kind::Values: row.insert(row.end(), s.values.begin(), s.values.end()); break;
+      case Kind::Chart: {
+        auto it = std::find(charts.begin(), charts.end(), s.chart);
+        if (it == charts.end()) it = charts.insert(charts.end(), std::string(s.chart));
+        row.push_back(static_cast<double>(it - charts.begin()));
+        break;
+      }
+    }
+  }
+}
+
 bool is_multiplier(std::string_view n) { return n.rfind("lambda_", 0) == 0 || n.rfind("mu_", 0) == 0; }
 bool is_force_multiplier(std::string_view n) { return n.rfind("lambda_", 0) == 0; }
 

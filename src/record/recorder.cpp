@@ -8,7 +8,6 @@
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/record/columns.hpp"
-#include "rigidae/record/error_control.hpp"
 
 namespace rigidae {
 
@@ -42,11 +41,12 @@ std::unique_ptr<CsvStream> open_csv_if(bool wanted, const std::filesystem::path&
 }
 
 StepFile::StepFile(const columns::Table& table, const std::vector<std::string>& multiplier_names, bool with_chart,
-                   const OutputSettings& output, const std::filesystem::path& out_dir, const std::string& units_more)
+                   const OutputSettings& output, const std::filesystem::path& out_dir, const std::string& units)
     : table_(table), with_chart_(with_chart) {
+  if (out_dir.empty()) return;  // a run kept in memory only
   const bool steps = output.record == RecordMode::Steps;
-  csv_ = open_csv_if(steps && output.step_format == StepFormat::Csv, out_dir / "steps.csv",
-                     columns::units_line(table) + units_more, columns::header(table, columns::kSteps, multiplier_names, with_chart));
+  csv_ = open_csv_if(steps && output.step_format == StepFormat::Csv, out_dir / "steps.csv", units,
+                     columns::header(table, columns::kSteps, multiplier_names, with_chart));
   const std::filesystem::path npy = out_dir / "steps.npy";
   if (steps && output.step_format == StepFormat::Npy)
     npy_ = std::make_unique<NpyFile>(npy, columns::npy_fields(table, columns::kSteps, multiplier_names, with_chart));
@@ -56,84 +56,103 @@ StepFile::StepFile(const columns::Table& table, const std::vector<std::string>& 
 
 namespace {
 
-// The units line's addition when the run has multipliers and they are not
-// error-controlled (record/error_control.hpp).
-std::string multipliers_note(const OneBodyView& problem, const Scene& scene) {
-  if (problem.multiplier_names().empty()) return "";
-  const MultiplierErrorControl c = multiplier_error_control(
-      scene.solver.integrator, problem.system().suppress_algebraic_error_test(), problem.system().scheme().name);
-  return c.controlled ? std::string() : "; multipliers NOT error-controlled: " + c.note;
+std::vector<std::string> split_header(const std::string& header) {
+  std::vector<std::string> names;
+  std::size_t at = 0;
+  while (at <= header.size()) {
+    const std::size_t comma = std::min(header.find(',', at), header.size());
+    names.push_back(header.substr(at, comma - at));
+    at = comma + 1;
+  }
+  return names;
 }
 
 }  // namespace
 
-RunRecorder::RunRecorder(const OneBodyView& problem, const Scene& scene, const std::filesystem::path& out_dir)
-    : problem_(problem),
-      multiplier_names_(problem.multiplier_names()),
-      with_chart_(problem.representation().has_charts()),
-      step_observer_(problem, scene),
-      grid_observer_(problem, scene),
-      steps_(columns::single_body(), multiplier_names_, with_chart_, scene.output, out_dir,
-             multipliers_note(problem, scene)),
-      trajectory_(open_csv_if(scene.output.record != RecordMode::None, out_dir / "trajectory.csv",
-                              columns::units_line() + multipliers_note(problem, scene),
-                              columns::header(columns::kTrajectory, multiplier_names_, with_chart_))),
-      events_(out_dir / "events.csv",
-              "# units: t s; margin |det B| of the chart left (chart_switch), 1; drift_position |Phi| 1 and "
-              "drift_velocity |dPhi/dt| 1/s just before a projection",
-              "t,event,from,to,margin,drift_position,drift_velocity") {
-  const TimeGrid& g = scene.time;
-  start_is_output_ = g.output_times.empty() || g.output_times.front() == g.start;
-  const int nm = static_cast<int>(multiplier_names_.size());
-  extremes_.multiplier_min = Eigen::VectorXd::Constant(nm, std::numeric_limits<double>::infinity());
-  extremes_.multiplier_max = Eigen::VectorXd::Constant(nm, -std::numeric_limits<double>::infinity());
-}
-
-void RunRecorder::write_row(CheckedStream& f, columns::File file, const columns::Sample& sample) {
-  fmt::memory_buffer b;  // on the stack: recording a step allocates nothing
-  columns::append_row(b, file, sample, with_chart_);
-  f.write(b.data(), b.size());
+RunRecorder::RunRecorder(RunColumns& columns, const OutputSettings& output, const TimeGrid& time,
+                         const std::filesystem::path& out_dir, MemoryRows* memory)
+    : columns_(columns),
+      memory_(memory),
+      with_chart_(columns.with_chart()),
+      events_(out_dir.empty() ? nullptr
+                              : std::make_unique<CsvStream>(out_dir / "events.csv", columns.events_units(),
+                                                            columns.events_header())),
+      steps_(columns.table(), columns.value_names(columns::kSteps), with_chart_, output, out_dir,
+             columns.units_line(columns::kSteps)),
+      trajectory_(out_dir.empty() ? nullptr
+                                  : open_csv_if(output.record != RecordMode::None, out_dir / "trajectory.csv",
+                                                columns.units_line(columns::kTrajectory),
+                                                columns::header(columns.table(), columns::kTrajectory,
+                                                                columns.value_names(columns::kTrajectory),
+                                                                with_chart_))) {
+  start_is_output_ = time.output_times.empty() || time.output_times.front() == time.start;
+  step_values_wanted_ = static_cast<bool>(steps_) || (memory_ && memory_->keep_steps);
+  step_values_.resize(columns.value_names(columns::kSteps).size());
+  grid_values_.resize(columns.value_names(columns::kTrajectory).size());
+  if (memory_) {
+    const columns::Table& table = columns.table();
+    memory_->step_columns =
+        split_header(columns::header(table, columns::kSteps, columns.value_names(columns::kSteps), with_chart_));
+    memory_->grid_columns = split_header(
+        columns::header(table, columns::kTrajectory, columns.value_names(columns::kTrajectory), with_chart_));
+    for (const columns::Column& c : table.columns)
+      if (c.kind == columns::Kind::Integer) memory_->integer_columns.emplace_back(c.name);
+  }
 }
 
 void RunRecorder::on_step(double t, double h, int order, const Eigen::VectorXd& y) {
-  const Observation o = step_observer_.observe(t, y);
-  if (steps_) {
-    const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
-    steps_.write({t, h, order, &o, chart, {}});
+  Observation& o = step_observation_;
+  columns_.observe(columns::kSteps, t, y, o,
+                   step_values_wanted_ ? std::span<double>(step_values_) : std::span<double>());
+  if (step_values_wanted_) {
+    const columns::Sample s{t, h, order, &o, columns_.chart(), step_values_};
+    if (steps_) steps_.write(s);
+    if (memory_ && memory_->keep_steps)
+      columns::append_numbers(memory_->steps, columns_.table(), columns::kSteps, s, with_chart_, memory_->charts);
   }
   extremes_.add_step(o);
 }
 
 void RunRecorder::on_output(double t, const Eigen::VectorXd& y) {
-  const bool row = trajectory_ && (seen_start_ || start_is_output_);
+  const bool wanted = trajectory_ || (memory_ && memory_->keep_grid);
+  const bool row = wanted && (seen_start_ || start_is_output_);
   seen_start_ = true;
   if (!row && extremes_.steps_recorded > 0) return;
-  const Observation o = grid_observer_.observe(t, y);
+  Observation o;
+  columns_.observe(columns::kTrajectory, t, y, o, row ? std::span<double>(grid_values_) : std::span<double>());
   if (row) {
-    const std::string chart = with_chart_ ? problem_.representation().chart_name() : std::string();
-    write_row(trajectory_->file(), columns::kTrajectory, {t, 0.0, 0, &o, chart, {}});
+    const columns::Sample s{t, 0.0, 0, &o, columns_.chart(), grid_values_};
+    if (trajectory_) {
+      row_.clear();
+      columns::append_row(row_, columns_.table(), columns::kTrajectory, s, with_chart_);
+      trajectory_->file().write(row_.data(), row_.size());
+    }
+    if (memory_ && memory_->keep_grid)
+      columns::append_numbers(memory_->grid, columns_.table(), columns::kTrajectory, s, with_chart_, memory_->charts);
   }
   if (extremes_.steps_recorded == 0) extremes_.last = o;
 }
 
 void RunRecorder::on_event(const EventNote& e) {
-  if (e.what == "chart_switch")
-    events_.file().write(fmt::format("{},chart_switch,{},{},{},,\n", e.t, e.from, e.to, e.margin));
-  else if (e.what == "projection")
-    events_.file().write(fmt::format("{},projection,,,,{},{}\n", e.t, e.drift_position, e.drift_velocity));
+  if (memory_) memory_->events.push_back(e);
+  if (!events_) return;
+  row_.clear();
+  columns_.append_event(row_, e);
+  if (row_.size()) events_->file().write(row_.data(), row_.size());
 }
 
 void RunRecorder::flush() {
   steps_.flush();
   if (trajectory_) trajectory_->flush();
-  events_.flush();
+  if (events_) events_->flush();
 }
 
 void RunRecorder::close() {
   CloseEach each;
   each([&] { steps_.close(); });
   if (trajectory_) each([&] { trajectory_->close(); });
-  each([&] { events_.close(); }).rethrow_first();
+  if (events_) each([&] { events_->close(); });
+  each.rethrow_first();
 }
 
 }  // namespace rigidae

@@ -23,7 +23,8 @@
 #include "cli_runner.hpp"
 #include "rigidae/app/solve.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
-#include "rigidae/record/multibody_recorder.hpp"
+#include "rigidae/record/recorder.hpp"
+#include "rigidae/record/run_columns.hpp"
 #include "test_multibody_scenes.hpp"
 
 TEST_SUITE_BEGIN("system");
@@ -280,8 +281,9 @@ TEST_CASE("mechanism steps: recording a step with every part's columns allocates
   Eigen::VectorXd y(p.size()), yp(p.size());
   p.initial_state(0.0, y, yp);
   const fs::path dir = test::fresh_temp_dir("mb_step_alloc");
-  MultibodyRecorder rec(p, dir, s.output, s.time);
-  REQUIRE(rec.step_columns().size() > 7 + 2 * 8);
+  const std::unique_ptr<RunColumns> columns = make_run_columns(p, s);
+  RunRecorder rec(*columns, s.output, s.time, dir);
+  REQUIRE(columns->value_names(columns::kSteps).size() > 2 * 8);
   rec.on_output(0.0, y);
   // In a run the accuracy monitor asks for the step's drift first and the
   // recorder gets the memo (MultibodyProblem::drift); the monitor's own call

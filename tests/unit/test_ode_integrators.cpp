@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "app/solve_multibody.hpp"
+#include "app/run_system.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"

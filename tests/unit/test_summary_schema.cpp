@@ -63,7 +63,9 @@ TEST_CASE("summary schema: single-body and multibody summaries share their commo
       for (const auto& [k2, v2] : va.items())
         if (vb.contains(k2)) {
           CAPTURE(k2);
-          CHECK(v2.type_name() == std::string(vb[k2].type_name()));
+          // null: a measure this run does not check (accuracy_check's
+          // angular momenta on a mechanism); otherwise the same type.
+          if (!v2.is_null() && !vb[k2].is_null()) CHECK(v2.type_name() == std::string(vb[k2].type_name()));
         }
   }
   CHECK(shared >= static_cast<int>(std::size(required)));

@@ -30,6 +30,7 @@
 //   constraints            10 tau N        (10 tau of drift per step)
 // Scenes with several bodies (schema 2) get the same check with their own
 // measures and scales: app/multibody_accuracy_check.hpp.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -55,21 +56,44 @@ struct InvariantDrifts {
   double tolerance;
 };
 
-// A StepSink placed in front of the recorder: forwards everything to it and
-// reads each step's observation back from it (no second evaluation).
-class InvariantMonitor final : public StepSink {
+// The accuracy check of a run: a StepSink in front of the run's sinks (the
+// recorder first) that forwards everything and measures each accepted step.
+class RunMonitor : public StepSink {
  public:
-  InvariantMonitor(const OneBodyView& problem, const Scene& scene, RecordingSink& recorder);
+  virtual const InvariantDrifts& drifts() const = 0;
+  virtual std::vector<AccuracyWarning> warnings() const = 0;
+  virtual long steps() const = 0;
+  // Where the measures are defined (summary.json's accuracy_check.definitions).
+  virtual std::string definitions() const = 0;
+};
+
+// The check of the run of `system` whose records `recorder` keeps: a single
+// body's (below) when the records read the system as one body, else a
+// mechanism's (app/multibody_accuracy_check.hpp). `next` gets everything
+// (the recorder, or a sink in front of it).
+std::unique_ptr<RunMonitor> make_run_monitor(multibody::MultibodyProblem& system, const Scene& scene,
+                                             const RunRecorder& recorder, StepSink& next);
+
+// A single body's check: reads each step's observation back from the
+// recorder (no second evaluation).
+class InvariantMonitor final : public RunMonitor {
+ public:
+  InvariantMonitor(const OneBodyView& problem, const Scene& scene, const RunRecorder& recorder, StepSink& next);
 
   void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
-  void on_output(double t, const Eigen::VectorXd& y) override { recorder_.on_output(t, y); }
-  void on_event(const EventNote& note) override { recorder_.on_event(note); }
+  void on_output(double t, const Eigen::VectorXd& y) override { next_.on_output(t, y); }
+  void on_event(const EventNote& note) override { next_.on_event(note); }
 
-  const InvariantDrifts& drifts() const { return d_; }
-  std::vector<AccuracyWarning> warnings() const;
+  const InvariantDrifts& drifts() const override { return d_; }
+  std::vector<AccuracyWarning> warnings() const override;
+  long steps() const override { return steps_; }
+  std::string definitions() const override {
+    return "maxima over the steps; see include/rigidae/app/accuracy_check.hpp";
+  }
 
  private:
-  RecordingSink& recorder_;
+  const RunRecorder& recorder_;
+  StepSink& next_;
   const RigidBodyModel& body_;
   bool full_momentum_, constrained_;
   double e0_, e_scale_, l_scale_, w_scale_;

@@ -2,7 +2,7 @@
 // A multibody run's trajectory.csv read back on its output grid: each body's
 // orientation, centre-of-mass position and angular velocity (space frame),
 // by the columns BODY.qw .. qz, BODY.x .. z, BODY.wx .. wz that
-// MultibodyRecorder writes (multibody/multibody_problem.hpp, output_names).
+// the mechanism columns write (multibody/multibody_problem.hpp, output_names).
 #include <filesystem>
 #include <string>
 #include <vector>

@@ -53,7 +53,7 @@ bool multibody_energy_balance_known(const MultibodySpec& spec);
 
 // A StepSink in front of the recorder (or of nothing, for a run that records
 // nothing): forwards everything and measures each accepted step.
-class MultibodyInvariantMonitor final : public StepSink {
+class MultibodyInvariantMonitor final : public RunMonitor {
  public:
   MultibodyInvariantMonitor(multibody::MultibodyProblem& problem, const Scene& scene, StepSink* next);
 
@@ -63,9 +63,12 @@ class MultibodyInvariantMonitor final : public StepSink {
     if (next_) next_->on_event(note);
   }
 
-  const InvariantDrifts& drifts() const { return d_; }
-  std::vector<AccuracyWarning> warnings() const;
-  long steps() const { return steps_; }
+  const InvariantDrifts& drifts() const override { return d_; }
+  std::vector<AccuracyWarning> warnings() const override;
+  long steps() const override { return steps_; }
+  std::string definitions() const override {
+    return "maxima over the steps; see include/rigidae/app/multibody_accuracy_check.hpp";
+  }
 
  private:
   multibody::MultibodyProblem& problem_;

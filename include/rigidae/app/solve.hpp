@@ -1,13 +1,15 @@
 #pragma once
-// One run of one scene, start to finish: assemble the DAE, integrate it with
-// IDA while streaming every step to disk, and write summary.json.
+// One run of one scene, start to finish: the scene as a system of bodies
+// (one body or a mechanism alike), integrated by the integrator it names
+// while the one recorder streams every step (record/recorder.hpp) behind the
+// accuracy check, then summary.json.
 #include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "rigidae/app/accuracy_check.hpp"
-#include "rigidae/multibody/one_body_view.hpp"
+#include "rigidae/multibody/multibody_problem.hpp"
 #include "rigidae/model/scene.hpp"
 #include "rigidae/record/error_control.hpp"
 #include "rigidae/record/recorder.hpp"
@@ -30,6 +32,8 @@ struct SolveOutcome {
   std::vector<SchemeParameter> scheme_parameters;  // as the scheme used them
   MultiplierErrorControl multipliers_error;  // record/error_control.hpp
   bool output_lost = false;               // a record could not be written (run.message says which)
+  std::string final_report;  // solve's report lines on the final state (RunColumns::final_report)
+  std::string summary;       // summary.json's text
 };
 
 // Writes steps.csv, trajectory.csv, events.csv and summary.json into
@@ -37,35 +41,12 @@ struct SolveOutcome {
 // status "failed" in its summary; it does not throw.
 SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_dir);
 
-// The recording side of a run, for solve_with: the sink that sees it, and
-// `close`, called when the run has ended however it ended (it may throw
-// OutputError for a record that could not be completed).
-struct RunSink {
-  RecordingSink* sink = nullptr;
-  std::function<void()> close;
-};
-
-// solve_scene without its files, for callers that record the run themselves
-// (the Python module keeps it in memory): `attach` receives the assembled problem
-// and returns the recording. out_dir stays empty; nothing is written.
-SolveOutcome solve_with(const Scene& scene, const std::function<RunSink(const OneBodyView&)>& attach);
-
-// solve_scene for a scene of bodies and joints (schema 2, URDF) with a second
-// sink beside its files: `also` receives the assembled problem and returns a
-// sink that sees every step, output point and event as the recorder does
-// (the Python module's memory), or null.
-using MultibodySinkAttach = std::function<StepSink*(multibody::MultibodyProblem&)>;
-SolveOutcome solve_multibody_with(const Scene& scene, const std::filesystem::path& out_dir,
-                                  const MultibodySinkAttach& also);
-
-// The same run with no files (the Python module without `out`): the
-// integrator the scene names, the accuracy check and its warnings; `also`
-// is the only sink.
-SolveOutcome solve_multibody_in_memory(const Scene& scene, const MultibodySinkAttach& also);
-
-// The text of summary.json for an outcome (what solve_scene writes).
-std::string summary_json(const Scene& scene, const SolveOutcome& o);
-void write_summary(const std::filesystem::path& path, const Scene& scene, const SolveOutcome& o);
+// solve_scene with the choice of outputs: files into out_dir when it is not
+// empty, the rows `memory` asks for (the Python module), and `also`, which
+// receives the assembled system and may return a sink that sees every step,
+// output point and event after the recorder (or null).
+SolveOutcome run_scene(const Scene& scene, const std::filesystem::path& out_dir, MemoryRows* memory = nullptr,
+                       const std::function<StepSink*(const multibody::MultibodyProblem&)>& also = {});
 
 // A folder name for a formulation, e.g. "heavy_top-quaternion-euler-ggl".
 std::string default_run_name(const Scene& scene);

@@ -178,6 +178,9 @@ struct MultibodySpec {
   std::optional<int> expected_dof;
   SourcePosition expected_dof_where;
   AssemblySpec assembly;
+  // Set by one_body_system(): the system is a one-body scene, whose records
+  // keep the single-body files' columns (record/run_columns.hpp).
+  bool one_body_scene = false;
 };
 
 }  // namespace rigidae

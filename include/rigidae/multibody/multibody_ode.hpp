@@ -60,7 +60,7 @@
 // body's rows are not one representation's, and the KKT path serves it.
 //
 // observe() gives the DAE layout (q | v | lambda) with lambda of the KKT
-// solve at x (per body when decoupled), so MultibodyRecorder and the
+// solve at x (per body when decoupled), so the recorder and the
 // accuracy monitor read ODE runs unchanged (joint reactions from lambda).
 // Events (Euler-angle charts, one root function per body in Euler angles)
 // and the torsion angles' branches are MultibodyProblem's, with the

@@ -3,9 +3,9 @@
 // how its value is computed from an Observation and the step. steps.csv and
 // trajectory.csv (header, units line, rows), summary.json's final row, and the
 // readers behind compare and study (trajectory_csv.cpp) all go through it:
-// adding a column is one row in src/record/columns.cpp. The multibody
-// recorder's steps file is a table of its own (src/record/multibody_recorder.cpp)
-// written by the same functions.
+// adding a column is one row in src/record/columns.cpp. A mechanism's
+// files are a table of their own (src/record/mechanism_columns.cpp) written
+// by the same functions.
 #include <fmt/format.h>
 
 #include <span>
@@ -92,6 +92,12 @@ inline std::string header(File file, const std::vector<std::string>& multiplier_
 inline void append_row(fmt::memory_buffer& b, File file, const Sample& s, bool with_chart) {
   append_row(b, single_body(), file, s, with_chart);
 }
+
+// Appends one row of `file` to `row` as numbers (a run kept in memory):
+// integer columns as numbers, the chart as its index in `charts` (added
+// there when new).
+void append_numbers(std::vector<double>& row, const Table& table, File file, const Sample& s, bool with_chart,
+                    std::vector<std::string>& charts);
 
 // Multiplier columns by their prefix: "lambda_" a force (J), "mu_" a kinematic one (1/s).
 bool is_multiplier(std::string_view header_name);

@@ -1,11 +1,14 @@
 #pragma once
-// Streams a run to disk as it happens and keeps its extremes.
+// The one recorder of every run: streams it to disk (and/or to memory) as it
+// happens and keeps its extremes. What a row holds is the system's column
+// set (record/run_columns.hpp); the recorder is the same for one body and
+// for a mechanism.
 //
 // Files in the output folder (scene.output says which):
 //   steps.csv       one row per accepted step (record = steps, step_format = csv)
 //   steps.npy       the same rows in NumPy's binary format (step_format = npy)
 //   trajectory.csv  one row per output-grid point (record = steps or grid)
-//   events.csv      one row per Euler-angle chart switch or projection (always)
+//   events.csv      one row per event (chart switch, projection, ...; always)
 // Rows go through a large write buffer (no history is held in memory), and
 // the files are flushed when the run ends, however it ends. Every step is
 // observed whatever is recorded: the extremes (summary.json, the accuracy
@@ -23,8 +26,8 @@
 #include "rigidae/io/checked_file.hpp"
 #include "rigidae/record/columns.hpp"
 #include "rigidae/record/npy_file.hpp"
-#include "rigidae/multibody/one_body_view.hpp"
 #include "rigidae/record/observation.hpp"
+#include "rigidae/record/run_columns.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 
 namespace rigidae {
@@ -45,8 +48,13 @@ struct RunExtremes {
     max_drift_velocity = std::max(max_drift_velocity, o.drift.velocity);
     max_abs_energy_error = std::max(max_abs_energy_error, std::abs(o.energy_error));
     max_abs_vertical_momentum_error = std::max(max_abs_vertical_momentum_error, std::abs(o.vertical_momentum_error));
-    multiplier_min = multiplier_min.cwiseMin(o.multipliers);
-    multiplier_max = multiplier_max.cwiseMax(o.multipliers);
+    if (multiplier_min.size() != o.multipliers.size()) {  // the first step
+      multiplier_min = o.multipliers;
+      multiplier_max = o.multipliers;
+    } else {
+      multiplier_min = multiplier_min.cwiseMin(o.multipliers);
+      multiplier_max = multiplier_max.cwiseMax(o.multipliers);
+    }
     last = o;
   }
 };
@@ -72,13 +80,12 @@ std::unique_ptr<CsvStream> open_csv_if(bool wanted, const std::filesystem::path&
 // A run's step file, steps.csv or steps.npy as output.record and
 // output.step_format say (or none; a previous run's are removed), written a
 // row per accepted step from a table of columns (record/columns.hpp): the one
-// step writer of RunRecorder and MultibodyRecorder.
+// step writer of RunRecorder, for either column set.
 class StepFile {
  public:
-  // `table` outlives the file (the tables are static).
-  // `units_more` is appended to the table's units line (a mechanism's per-part columns).
+  // `table` outlives the file (the tables are static); `units` is the file's first line.
   StepFile(const columns::Table& table, const std::vector<std::string>& multiplier_names, bool with_chart,
-           const OutputSettings& output, const std::filesystem::path& out_dir, const std::string& units_more = {});
+           const OutputSettings& output, const std::filesystem::path& out_dir, const std::string& units);
   // Whether a step file is written.
   explicit operator bool() const { return csv_ || npy_; }
   // One row (allocates nothing once the row buffer has grown to a row's
@@ -133,44 +140,49 @@ class CloseEach {
   std::string first_;
 };
 
-// A sink that keeps the run's extremes as it goes (RunRecorder on disk; the
-// Python module's in-memory recorder): what InvariantMonitor sits in front of.
-class RecordingSink : public StepSink {
- public:
-  virtual const RunExtremes& extremes() const = 0;
+// A run held in memory (the Python module): the rows of the step file and of
+// trajectory.csv as numbers, row-major, integer columns as numbers and the
+// chart as an index into `charts`; every event.
+struct MemoryRows {
+  bool keep_steps = false, keep_grid = false;
+  std::vector<std::string> step_columns, grid_columns, integer_columns;  // set by the recorder
+  std::vector<double> steps, grid;
+  std::vector<std::string> charts;
+  std::vector<EventNote> events;
 };
 
-class RunRecorder final : public RecordingSink {
+class RunRecorder final : public StepSink {
  public:
-  // Observes the problem's states in its current chart; writes what
-  // scene.output asks for (and removes a previous run's files it does not write).
-  RunRecorder(const OneBodyView& problem, const Scene& scene, const std::filesystem::path& out_dir);
+  // Writes into out_dir what `output` asks for (and removes a previous run's
+  // files it does not write); with an empty out_dir, no file. Keeps the rows
+  // `memory` asks for there when given. `time`: the run's grid (the start is
+  // reported first, always, and is a row only when it is an output time).
+  RunRecorder(RunColumns& columns, const OutputSettings& output, const TimeGrid& time,
+              const std::filesystem::path& out_dir, MemoryRows* memory = nullptr);
 
   void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
   void on_output(double t, const Eigen::VectorXd& y) override;
   void on_event(const EventNote& note) override;
   void flush();
-  // Flushes, syncs and closes the files; throws OutputError naming the
-  // first that fails (the others are still closed).
+  // Flushes, syncs and closes the files (the .npy header gets its row count);
+  // throws OutputError naming the first that fails (the others are still closed).
   void close();
 
-  const RunExtremes& extremes() const override { return extremes_; }
-  const std::vector<std::string>& multiplier_names() const { return multiplier_names_; }
+  const RunExtremes& extremes() const { return extremes_; }
+  const RunColumns& columns() const { return columns_; }
 
  private:
-  // One row of `file` from the table of columns (record/columns.hpp).
-  void write_row(CheckedStream& f, columns::File file, const columns::Sample& sample);
-
-  const OneBodyView& problem_;
-  std::vector<std::string> multiplier_names_;
+  RunColumns& columns_;
+  MemoryRows* memory_;
   bool with_chart_;
-  Observer step_observer_, grid_observer_;
+  std::unique_ptr<CsvStream> events_;  // created first, then the step file and trajectory.csv
   StepFile steps_;
   std::unique_ptr<CsvStream> trajectory_;
-  CsvStream events_;
+  bool step_values_wanted_ = false;
+  std::vector<double> step_values_, grid_values_;  // the Values columns of one row, reused
+  fmt::memory_buffer row_;
+  Observation step_observation_;
   RunExtremes extremes_;
-  // The integrators report the start first, always; it is a row of
-  // trajectory.csv only when it is an output time (output.times may leave it out).
   bool start_is_output_ = true, seen_start_ = false;
 };
 

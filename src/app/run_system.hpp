@@ -1,15 +1,12 @@
 #pragma once
-// solve_scene for schema-2 (multibody) scenes (internal header).
+// Running a scene's system on its integrator (internal header of app/).
 #include "rigidae/app/solve.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 
 namespace rigidae {
 
-SolveOutcome solve_multibody_scene(const Scene& scene, const std::filesystem::path& out_dir,
-                                   const MultibodySinkAttach& also = {});
-
-// The integrator a multibody scene may name: ida (the DAE) with any scheme,
+// The integrator a scene may name: ida (the DAE) with any scheme,
 // or cvode-adams, cvode-bdf, arkode-erk (the ODE form, multibody_ode.hpp)
 // with the schemes they run (index1, projection). InputError naming the file
 // and the valid values otherwise.
