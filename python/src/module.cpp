@@ -39,6 +39,7 @@
 #include "rigidae/record/recorder.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/record/columns.hpp"
+#include "rigidae/settings/default_integrator.hpp"
 #include "rigidae/settings/settings.hpp"
 #include "rigidae/so3/rotation.hpp"
 
@@ -117,6 +118,7 @@ Scene with_options(const Scene& scene, const std::string& command, const std::ve
   Scene s = scene;
   for (const auto& [setting, value] : cl.options)
     if (setting->set && !setting->scene_key.empty()) setting->set(s, value);
+  settings::resolve_integrator(s);  // as scene_from: the default rule reads the final settings
   if (const auto p = settings::cross_problem(s))
     throw InputError(fmt::format("{} = {}", settings::scene_setting(p->scene_key).label(), p->message));
   return s;

@@ -10,6 +10,7 @@
 #include "rigidae/core/error.hpp"
 #include "rigidae/core/text.hpp"
 #include "rigidae/io/scene_loader.hpp"
+#include "rigidae/settings/default_integrator.hpp"
 
 namespace rigidae::cli {
 
@@ -162,6 +163,8 @@ Scene scene_from(const CommandLine& cl, const CommandInfo& command) {
   for (const auto& [s, v] : cl.options)
     if (s->set && !s->scene_key.empty()) s->set(scene, v);
   clip_output_times(scene);
+  // The options may have changed what the default rule reads (scheme, springs' output step) or named the integrator.
+  settings::resolve_integrator(scene);
   if (const auto p = settings::cross_problem(scene))
     throw InputError(fmt::format("{} = {}", settings::scene_setting(p->scene_key).label(), p->message));
   return scene;

@@ -72,6 +72,8 @@ Scene Combination::applied_to(const Scene& scene) const {
   s.formulation.coordinates = coordinates;
   s.formulation.equations = equations;
   s.solver.integrator = integrator;
+  s.solver.integrator_named = true;
+  s.solver.integrator_choice = "named";
   if (!erk_method.empty()) s.solver.erk_method = erk_method;
   if (scheme != kAnyScheme) {
     s.formulation.scheme = scheme;
@@ -295,6 +297,94 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
 
 double default_run_timeout(double reference_wall_s) { return std::max(300.0, 10.0 * reference_wall_s); }
 
+namespace {
+
+// The error a row is ranked by (see IntegratorRanking); NaN when it has none.
+double ranked_error(const CompareReport& r, const CompareRow& row) {
+  if (row.outcome.run.status != RunStatus::Success || !r.reference.ok) return kNaN;
+  return r.multibody ? row.accuracy.position_m.max : row.error_max_rad;
+}
+
+// At most this many levels (the smallest errors kept): 1e-1 ... 1e-12 fits.
+constexpr int kMaxRankingLevels = 12;
+
+}  // namespace
+
+IntegratorRanking rank_integrators(const CompareReport& r) {
+  IntegratorRanking k;
+  k.unit = r.multibody ? "m" : "rad";
+  double largest = 0.0, smallest = std::numeric_limits<double>::infinity();
+  for (const CompareRow& row : r.rows) {
+    const std::string label = row.combination.integrator_label();
+    if (std::find(k.integrators.begin(), k.integrators.end(), label) == k.integrators.end())
+      k.integrators.push_back(label);
+    const double e = ranked_error(r, row);
+    if (!std::isfinite(e) || !(row.wall_median > 0.0)) continue;
+    largest = std::max(largest, e);
+    smallest = std::min(smallest, e);
+  }
+  if (!(largest > 0.0)) return k;
+  // A run exact to round-off (error 0) is ranked at the smallest level shown.
+  smallest = std::max(smallest, largest * 1e-30);
+  const int top = static_cast<int>(std::ceil(std::log10(largest)));
+  const int bottom = std::max(static_cast<int>(std::ceil(std::log10(smallest))), top - kMaxRankingLevels + 1);
+  for (int p = top; p >= bottom; --p) {
+    FastestToError level;
+    level.level = std::pow(10.0, p);
+    level.row.assign(k.integrators.size(), -1);
+    for (std::size_t i = 0; i < r.rows.size(); ++i) {
+      const CompareRow& row = r.rows[i];
+      const double e = ranked_error(r, row);
+      // A hair above the level still counts: 1e-6 read back from 10^-6 is not above it.
+      if (!std::isfinite(e) || !(row.wall_median > 0.0) || e > level.level * (1 + 1e-12)) continue;
+      const auto at = std::find(k.integrators.begin(), k.integrators.end(), row.combination.integrator_label());
+      int& best = level.row[static_cast<std::size_t>(at - k.integrators.begin())];
+      if (best < 0 || row.wall_median < r.rows[static_cast<std::size_t>(best)].wall_median) best = static_cast<int>(i);
+    }
+    for (std::size_t j = 0; j < level.row.size(); ++j)
+      if (level.row[j] >= 0 &&
+          (level.fastest < 0 || r.rows[static_cast<std::size_t>(level.row[j])].wall_median <
+                                    r.rows[static_cast<std::size_t>(level.row[static_cast<std::size_t>(level.fastest)])].wall_median))
+        level.fastest = static_cast<int>(j);
+    k.levels.push_back(std::move(level));
+  }
+  return k;
+}
+
+std::string format_integrator_ranking(const CompareReport& r) {
+  const IntegratorRanking k = rank_integrators(r);
+  if (k.integrators.size() < 2 || k.levels.empty()) return "";
+  std::string s = fmt::format(
+      "integrators to each error (largest error on the grid, {}{}): wall s of each integrator's fastest row "
+      "reaching it, * the fastest, - none reaches it\n",
+      k.unit, r.multibody ? ", the worst body's centre of mass" : ", rotation");
+  std::vector<std::size_t> width;
+  s += fmt::format("  {:<9}", "error <=");
+  for (const std::string& name : k.integrators) {
+    width.push_back(std::max<std::size_t>(name.size(), 10));
+    s += fmt::format(" {:>{}}", name, width.back());
+  }
+  s += "  fastest\n";
+  for (const FastestToError& level : k.levels) {
+    s += fmt::format("  {:<9.0e}", level.level);
+    for (std::size_t j = 0; j < k.integrators.size(); ++j) {
+      const int i = level.row[j];
+      const std::string cell =
+          i < 0 ? "-"
+                : fmt::format("{:.3g}{}", r.rows[static_cast<std::size_t>(i)].wall_median,
+                              static_cast<int>(j) == level.fastest ? "*" : "");
+      s += fmt::format(" {:>{}}", cell, width[j]);
+    }
+    if (level.fastest >= 0) {
+      const CompareRow& best =
+          r.rows[static_cast<std::size_t>(level.row[static_cast<std::size_t>(level.fastest)])];
+      s += fmt::format("  {}", best.combination.name());
+    }
+    s += "\n";
+  }
+  return s;
+}
+
 std::string format_compare_table(const CompareReport& r) {
   std::string s;
   s += fmt::format("rigidae compare: {} ({}), rtol {:g}, atol {:g}\n", r.scene_name, r.scene_source, r.rtol, r.atol);
@@ -331,6 +421,7 @@ std::string format_compare_table(const CompareReport& r) {
                                                sci(row.accuracy.position_m.max))
                                  : "");
   }
+  s += format_integrator_ranking(r);
   bool any_failed = false;
   for (const CompareRow& row : r.rows)
     if (row.outcome.run.status != RunStatus::Success) {

@@ -35,6 +35,9 @@ inline nlohmann::json common_summary_json(const Scene& scene, const SolveOutcome
       {"note", o.note},
       {"unknowns", o.unknowns},
       {"integrator", scene.solver.integrator},
+      // "named" (scene file, command line, compare or study), why the default rule chose it, or "set in
+      // code" for a Scene no loader resolved (settings/default_integrator.hpp).
+      {"integrator_choice", scene.solver.integrator_choice.empty() ? "set in code" : scene.solver.integrator_choice},
       {"rtol", scene.solver.rtol},
       {"atol", scene.solver.atol},
       {"jacobian", scene.solver.jacobian},

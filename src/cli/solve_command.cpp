@@ -29,6 +29,14 @@ void print_report(const Scene& scene, const SolveOutcome& o) {
   fmt::print("rigidae {}: {} ({})\n", RIGIDAE_VERSION, scene.name, scene.source);
   fmt::print("  formulation   {} with scheme {}\n", o.representation, o.scheme);
   if (!o.note.empty()) fmt::print("  note          {}\n", o.note);
+  const SolverSettings& solver = scene.solver;
+  const std::string integrator =
+      solver.integrator == "arkode-erk" ? solver.integrator + ":" + solver.erk_method : solver.integrator;
+  if (solver.integrator_named || solver.integrator_choice.empty())
+    fmt::print("  integrator    {}\n", integrator);
+  else
+    fmt::print("  integrator    {} ({}; name [solver] integrator or --integrator to choose)\n", integrator,
+               solver.integrator_choice);
   fmt::print("  tolerances    rtol {:g}, atol {:g}\n", scene.solver.rtol, scene.solver.atol);
   fmt::print("  status        {}{}\n", to_string(r.status),
              r.status == RunStatus::Success ? fmt::format(": t = {:g} s reached", r.t_reached) : ": " + r.message);

@@ -33,6 +33,7 @@
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/exact/exact_solution.hpp"
+#include "rigidae/settings/default_integrator.hpp"
 #include "rigidae/settings/settings.hpp"
 #include "rigidae/so3/euler_sequence.hpp"
 #include "rigidae/so3/rotation.hpp"
@@ -710,7 +711,10 @@ Scene parse_scene(const std::string& text, const std::string& source_name) {
   } catch (const toml::parse_error& e) {
     reader.fail(e.source(), explain_parse_error(text, e));
   }
-  return read_scene(reader, root);
+  Scene scene = read_scene(reader, root);
+  // The integrator, unless the file names one: the measured rule (settings/default_integrator.hpp).
+  settings::resolve_integrator(scene);
+  return scene;
 }
 
 Scene load_scene(const std::string& path) {
@@ -718,7 +722,11 @@ Scene load_scene(const std::string& path) {
   if (const std::string ext = std::filesystem::path(path).extension().string();
       ext.size() == 5 && text::lower(ext[1]) == 'u' && text::lower(ext[2]) == 'r' && text::lower(ext[3]) == 'd' &&
       text::lower(ext[4]) == 'f')
-    return load_urdf_scene(path);
+  {
+    Scene scene = load_urdf_scene(path);
+    settings::resolve_integrator(scene);
+    return scene;
+  }
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw InputError(fmt::format("{}: error: cannot read scene file '{}': it is a directory", path, path));

@@ -186,12 +186,19 @@ std::vector<Setting> make_table() {
        .get = [](const Scene& s) -> Value { return s.solver.linear_solver; }});
   // Which integrator runs which schemes: solver/integrators.hpp (checked in cross_problem).
   row({.scene_key = "solver.integrator", .option = "--integrator", .commands = kRun, .kind = Kind::Choice,
-       .choices = integrator_names,
+       .choices = integrator_names, .default_text = "ida, or arkode-erk for a non-stiff index1/projection scene",
        .help = "ida: BDF on the DAE, every scheme; cvode-adams, cvode-bdf, arkode-erk: the ODE form (single "
                "bodies and mechanisms), schemes "
                "index1 (plain ODE) and projection (ODE + projection; a scene file naming one of them and no "
-               "scheme gets projection)",
-       .set = [](Scene& s, const Value& v) { s.solver.integrator = word(v); },
+               "scheme gets projection). Unnamed, chosen by measurement (docs/benchmarks.md): ida for a scheme "
+               "only IDA runs and for a stiff scene (an overdamped spring-damper's or torsional damper's decay "
+               "rate, at most c/m, times the output step above 10, or a spring's sqrt(k/m) times it above 1000), "
+               "arkode-erk otherwise; summary.json's integrator_choice says why",
+       .set =
+           [](Scene& s, const Value& v) {
+             s.solver.integrator = word(v);
+             s.solver.integrator_named = true;
+           },
        .get = [](const Scene& s) -> Value { return s.solver.integrator; }});
   row({.scene_key = "solver.erk_method", .option = "--erk-method", .commands = kRun, .kind = Kind::Choice,
        .choices = erk_method_names,

@@ -28,11 +28,13 @@ std::filesystem::path temp_scene(const std::string& name, const std::string& tex
   return path;
 }
 
-// The heavy top's file with extra lines appended to [formulation] and [solver].
+// The heavy top's file with extra lines appended to [formulation] and [solver]
+// (its own `integrator = "ida"`, which keeps the guard's pins, left out).
 std::string heavy_top_with(const std::string& formulation, const std::string& solver) {
   std::ifstream in(kScene);
   std::string text((std::istreambuf_iterator<char>(in)), {});
   text = std::regex_replace(text, std::regex("scheme = \"ggl\""), formulation);
+  text = std::regex_replace(text, std::regex("\nintegrator = \"ida\"\n"), "\n");
   return text + solver + "\n";
 }
 

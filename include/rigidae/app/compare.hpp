@@ -139,6 +139,29 @@ struct CompareReport {
   bool interrupted = false;  // by a signal (Ctrl-C, TERM)
 };
 
+// Which integrator is cheapest for the accuracy (issue 23 item 4), read off
+// the rows: at each error level (the powers of ten from the one at or above
+// the largest row error down to the one at or above the smallest), each
+// integrator's fastest successful row (wall median) whose error is at most
+// the level. The error is the largest on the output grid: the worst body's
+// centre-of-mass distance in m for a mechanism, the rotation angle in rad
+// for a single body. Rows without an error (failed, or no reference) take
+// no part.
+struct FastestToError {
+  double level = 0.0;
+  std::vector<int> row;  // per IntegratorRanking::integrators: index into CompareReport::rows, -1 none
+  int fastest = -1;      // index into IntegratorRanking::integrators, -1 when no row reaches the level
+};
+struct IntegratorRanking {
+  std::string unit;                      // "m" or "rad"
+  std::vector<std::string> integrators;  // labels ("ida", "arkode-erk:fehlberg78"), in the rows' order
+  std::vector<FastestToError> levels;    // largest level first
+};
+IntegratorRanking rank_integrators(const CompareReport& r);
+// The ranking as compare.txt prints it under the rows ("" with fewer than
+// two integrators or no errors).
+std::string format_integrator_ranking(const CompareReport& r);
+
 // Runs everything; one combination's failure is a row, not an exception.
 // progress receives one line per finished run (may be empty).
 CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,

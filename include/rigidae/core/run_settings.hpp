@@ -37,6 +37,12 @@ struct SolverSettings {
   // lists the valid values and which schemes each integrator runs).
   std::string integrator = "ida";
   std::string erk_method = "fehlberg78";
+  // Whether a scene file, the command line or a study named the integrator;
+  // if not, settings::resolve_integrator chooses it by the default rule
+  // (settings/default_integrator.hpp) and says why in integrator_choice
+  // ("named" when it was named), which summary.json reports.
+  bool integrator_named = false;
+  std::string integrator_choice;
   // The step-size floor, relative to the scene's time scale: a run whose
   // accepted steps stay below min_step_fraction * max(|end - start|, |t|)
   // for kStalledSteps steps in a row fails as stalled (at that size the rest
