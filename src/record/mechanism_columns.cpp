@@ -85,7 +85,6 @@ const columns::Table kTable{kColumns, columns::Digits::Fmt};
 
 MechanismColumns::MechanismColumns(multibody::MultibodyProblem& problem, const Scene& scene)
     : problem_(problem),
-      scene_(scene),
       step_parts_(recorded_parts(problem.spec())),
       grid_parts_(recorded_parts(problem.spec(), false)),
       step_names_(problem.step_part_names(step_parts_)),

@@ -42,7 +42,6 @@ class MechanismColumns final : public RunColumns {
   double energy_error(double t, const double* y, double H);
 
   multibody::MultibodyProblem& problem_;
-  const Scene& scene_;
   RecordedParts step_parts_, grid_parts_;
   std::vector<std::string> step_names_, grid_names_;
   std::string step_units_, grid_units_, events_units_, events_header_;

@@ -51,9 +51,7 @@ void OneBodyColumns::observe(columns::File f, double t, const Eigen::VectorXd& y
   if (with_chart()) chart_ = view_.representation().chart_name();  // short: no allocation
 }
 
-double OneBodyColumns::initial_energy() const {
-  return view_.body().kinetic_energy(scene_.omega0_B) + view_.body().potential_energy(scene_.R0_WB);
-}
+double OneBodyColumns::initial_energy() const { return step_observer_.initial_energy(); }
 
 void OneBodyColumns::append_event(fmt::memory_buffer& b, const EventNote& e) const {
   if (e.what == "chart_switch")

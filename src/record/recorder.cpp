@@ -141,12 +141,6 @@ void RunRecorder::on_event(const EventNote& e) {
   if (row_.size()) events_->file().write(row_.data(), row_.size());
 }
 
-void RunRecorder::flush() {
-  steps_.flush();
-  if (trajectory_) trajectory_->flush();
-  if (events_) events_->flush();
-}
-
 void RunRecorder::close() {
   CloseEach each;
   each([&] { steps_.close(); });

@@ -37,7 +37,6 @@ class NpyFile {
   std::size_t row_bytes() const { return row_bytes_; }
   // Appends one row of row_bytes() bytes, the fields packed in order.
   void write_row(const char* row) { stream_.write(row, row_bytes_); }
-  void flush() { stream_.flush(); }
   // Flushes and closes the rows, then writes their count into the header
   // (each step checked). Throws OutputError naming the first failure; the
   // header is rewritten even after a failed write. Idempotent.

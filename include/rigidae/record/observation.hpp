@@ -27,6 +27,8 @@ class Observer {
   Observer(const OneBodyView& view, const Scene& scene);
   // y of the view's system, its coordinates in the chart the run is in now.
   Observation observe(double t, const Eigen::VectorXd& y);
+  // The energy H0 at the scene's initial state (kinetic plus potential about the reference point), J.
+  double initial_energy() const { return energy0_; }
 
  private:
   const OneBodyView& view_;

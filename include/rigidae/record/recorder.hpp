@@ -65,7 +65,6 @@ class CsvStream {
  public:
   CsvStream(const std::filesystem::path& path, const std::string& units_comment, const std::string& header);
   CheckedStream& file() { return stream_; }
-  void flush() { stream_.flush(); }
   void close() { stream_.close(); }
 
  private:
@@ -100,10 +99,6 @@ class StepFile {
       columns::append_binary_row(b, table_, columns::kSteps, s, with_chart_);
       npy_->write_row(b.data());
     }
-  }
-  void flush() {
-    if (csv_) csv_->flush();
-    if (npy_) npy_->flush();
   }
   // Closes the file; throws OutputError when that fails.
   void close() {
@@ -163,7 +158,6 @@ class RunRecorder final : public StepSink {
   void on_step(double t, double h, int order, const Eigen::VectorXd& y) override;
   void on_output(double t, const Eigen::VectorXd& y) override;
   void on_event(const EventNote& note) override;
-  void flush();
   // Flushes, syncs and closes the files (the .npy header gets its row count);
   // throws OutputError naming the first that fails (the others are still closed).
   void close();
