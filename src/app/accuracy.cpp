@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <limits>
 #include <optional>
+#include <utility>
 
 #include "rigidae/model/one_body_system.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
@@ -24,12 +26,6 @@ double digits(double worst) { return -std::log10(std::max(worst, std::numeric_li
 // Reference components this small carry no relative accuracy; the Test Set skips them.
 constexpr double kNegligible = 1e-200;
 
-Eigen::VectorXd physical_state(const Vec4& q, const Vec3& omega) {
-  Eigen::VectorXd y(7);
-  y << q, omega;
-  return y;
-}
-
 }  // namespace
 
 double significant_correct_digits(const Eigen::VectorXd& y, const Eigen::VectorXd& y_ref) {
@@ -47,70 +43,108 @@ double mixed_significant_correct_digits(const Eigen::VectorXd& y, const Eigen::V
   return digits(worst);
 }
 
-RunAccuracy measure_accuracy(const Scene& scene, const GridTrajectory& run, const ReferenceTrajectory& ref,
+namespace {
+
+// The multipliers' reference values: the run's own system at the reference
+// state (its consistent start there, in the start chart: only Euler angles
+// have charts, and they have no multipliers). Only a one-body file names
+// its multipliers (lambda_*, mu_* by row), so the system is that body's.
+class ReferenceMultipliers {
+ public:
+  ReferenceMultipliers(const Scene& scene, const std::vector<std::string>& run_names)
+      : system_scene_(one_body_system(scene)), system_(system_scene_), view_(system_, scene), names_(run_names) {
+    const std::vector<std::string> own = view_.multiplier_names();
+    for (const std::string& name : names_) {
+      const auto it = std::find(own.begin(), own.end(), name);
+      position_.push_back(it == own.end() ? -1 : static_cast<int>(it - own.begin()));
+    }
+  }
+  // The largest force (lambda) and kinematic (mu) multiplier errors of one grid point; NaN where there are none.
+  std::pair<double, double> errors(double t, const Vec4& q_ref, const Vec3& omega_ref, const std::vector<double>& run) {
+    view_.consistent_state(t, so3::quaternion_to_matrix(q_ref), omega_ref, y_, yp_);
+    double e_lambda = kNaN, e_mu = kNaN;
+    for (std::size_t k = 0; k < names_.size(); ++k) {
+      const double exact = position_[k] >= 0 ? y_[view_.multiplier_offset() + position_[k]] : 0.0;
+      double& worst = names_[k].rfind("lambda_", 0) == 0 ? e_lambda : e_mu;
+      worst = std::max(std::isnan(worst) ? 0.0 : worst, std::abs(run[k] - exact));
+    }
+    return {e_lambda, e_mu};
+  }
+
+ private:
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  Scene system_scene_;
+  multibody::MultibodyProblem system_;
+  OneBodyView view_;
+  std::vector<std::string> names_;
+  std::vector<int> position_;  // in the system's multiplier order; -1: not one of its rows (exact value 0)
+  Eigen::VectorXd y_, yp_;
+};
+
+}  // namespace
+
+RunAccuracy measure_accuracy(const Scene& scene, const BodyGrid& run, const ReferenceTrajectory& ref,
                              bool reached_end) {
   RunAccuracy acc;
   if (!ref.ok) return acc;
-  const std::size_t n = std::min(run.t.size(), ref.t.size());
-  reached_end = reached_end && n == ref.t.size() && n > 0;
+  const BodyGrid& r = ref.grid;
+  const std::size_t n = std::min(run.t.size(), r.t.size());
+  const std::size_t nb = std::min(run.bodies.size(), r.bodies.size());
+  reached_end = reached_end && n == r.t.size() && n > 0 && nb == r.bodies.size();
+  const bool positions = run.has_positions() && r.has_positions();
+  std::optional<ReferenceMultipliers> multipliers;
+  if (!run.multiplier_names.empty()) multipliers.emplace(scene, run.multiplier_names);
 
-  // The exact multipliers: the system's consistent state at the reference's
-  // physical state (the start chart: only Euler angles have charts, and
-  // they have no multipliers).
-  std::optional<Scene> system_scene;
-  std::optional<multibody::MultibodyProblem> system;
-  std::optional<OneBodyView> dae;
-  if (!run.multiplier_names.empty()) {
-    system_scene.emplace(one_body_system(scene));
-    system.emplace(*system_scene);
-    dae.emplace(*system, scene);
-  }
-  std::vector<int> lambda_cols, mu_cols;  // positions in the DAE's multiplier order
-  Eigen::VectorXd y, yp;
-  int first_multiplier = 0;
-  if (dae) {
-    const std::vector<std::string> names = dae->multiplier_names();
-    for (std::size_t k = 0; k < run.multiplier_names.size(); ++k) {
-      const auto it = std::find(names.begin(), names.end(), run.multiplier_names[k]);
-      const int pos = it == names.end() ? -1 : static_cast<int>(it - names.begin());
-      (run.multiplier_names[k].rfind("lambda_", 0) == 0 ? lambda_cols : mu_cols).push_back(pos);
-    }
-    first_multiplier = dae->multiplier_offset();
-  }
-
-  ErrorSeries orientation, omega, lambda, mu;
+  ErrorSeries orientation, omega, position, lambda, mu;
   for (std::size_t i = 0; i < n; ++i) {
-    orientation.add(so3::quaternion_distance(run.q_WB[i], ref.q_WB[i]));
-    omega.add((run.omega_B[i] - ref.omega_B[i]).norm());
-    if (!dae) continue;
-    dae->consistent_state(ref.t[i], so3::quaternion_to_matrix(ref.q_WB[i]), ref.omega_B[i], y, yp);
-    double e_lambda = 0.0, e_mu = 0.0;
-    std::size_t li = 0, mi = 0;
-    for (std::size_t k = 0; k < run.multiplier_names.size(); ++k) {
-      const bool force = run.multiplier_names[k].rfind("lambda_", 0) == 0;
-      const int pos = force ? lambda_cols[li++] : mu_cols[mi++];
-      const double exact = pos >= 0 ? y[first_multiplier + pos] : 0.0;
-      const double e = std::abs(run.multipliers[i][k] - exact);
-      (force ? e_lambda : e_mu) = std::max(force ? e_lambda : e_mu, e);
+    double a = 0.0, w = 0.0, x = 0.0;
+    for (std::size_t b = 0; b < nb; ++b) {
+      a = std::max(a, so3::quaternion_distance(run.q_WB[i][b], r.q_WB[i][b]));
+      w = std::max(w, (run.omega_B[i][b] - r.omega_B[i][b]).norm());
+      if (positions) x = std::max(x, (run.x_W[i][b] - r.x_W[i][b]).norm());
     }
-    if (!lambda_cols.empty()) lambda.add(e_lambda);
-    if (!mu_cols.empty()) mu.add(e_mu);
+    orientation.add(a);
+    omega.add(w);
+    if (positions) position.add(x);
+    if (!multipliers) continue;
+    const auto [e_lambda, e_mu] = multipliers->errors(r.t[i], r.q_WB[i][0], r.omega_B[i][0], run.multipliers[i]);
+    if (!std::isnan(e_lambda)) lambda.add(e_lambda);
+    if (!std::isnan(e_mu)) mu.add(e_mu);
   }
   acc.points_compared = static_cast<long>(n);
   acc.orientation_rad = orientation.stats(reached_end);
   acc.angular_velocity = omega.stats(reached_end);
+  acc.position_m = position.stats(reached_end);
   acc.lambda = lambda.stats(reached_end);
   acc.mu = mu.stats(reached_end);
   if (reached_end) {
-    Vec4 q = run.q_WB[n - 1];
-    const Vec4& q_ref = ref.q_WB[n - 1];
-    if (q.dot(q_ref) < 0.0) q = -q;  // q and -q are the same rotation
-    const Eigen::VectorXd y_run = physical_state(q, run.omega_B[n - 1]);
-    const Eigen::VectorXd y_ref = physical_state(q_ref, ref.omega_B[n - 1]);
-    acc.scd = significant_correct_digits(y_run, y_ref);
-    acc.mescd = mixed_significant_correct_digits(y_run, y_ref, scene.solver.atol / scene.solver.rtol);
+    // Each body's final physical state: q (aligned in sign: q and -q are the
+    // same rotation), x where recorded, omega_B.
+    const int per_body = positions ? 10 : 7;
+    Eigen::VectorXd y(per_body * nb), y_ref(per_body * nb);
+    for (std::size_t b = 0; b < nb; ++b) {
+      Vec4 q = run.q_WB[n - 1][b];
+      const Vec4& q_ref = r.q_WB[n - 1][b];
+      if (q.dot(q_ref) < 0.0) q = -q;
+      const Eigen::Index o = static_cast<Eigen::Index>(per_body * b);
+      y.segment<4>(o) = q;
+      y_ref.segment<4>(o) = q_ref;
+      if (positions) {
+        y.segment<3>(o + 4) = run.x_W[n - 1][b];
+        y_ref.segment<3>(o + 4) = r.x_W[n - 1][b];
+      }
+      y.segment<3>(o + per_body - 3) = run.omega_B[n - 1][b];
+      y_ref.segment<3>(o + per_body - 3) = r.omega_B[n - 1][b];
+    }
+    acc.scd = significant_correct_digits(y, y_ref);
+    acc.mescd = mixed_significant_correct_digits(y, y_ref, scene.solver.atol / scene.solver.rtol);
   }
   return acc;
+}
+
+RunAccuracy measure_run_accuracy(const Scene& scene, const std::filesystem::path& run_dir,
+                                 const ReferenceTrajectory& ref, bool reached_end) {
+  return measure_accuracy(scene, read_trajectory_csv(run_dir / "trajectory.csv"), ref, reached_end);
 }
 
 }  // namespace rigidae

@@ -204,7 +204,6 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
   report.scene_source = scene.source;
   report.rtol = scene.solver.rtol;
   report.atol = scene.solver.atol;
-  report.multibody = scene.multibody.has_value();
 
   const std::string kind = opt.reference.empty() ? to_string(scene.reference) : opt.reference;
   const auto reference_started = std::chrono::steady_clock::now();
@@ -217,6 +216,7 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
   report.run_timeout_default = !opt.run_timeout.has_value();
   report.reference_wall_s = reference_wall;
   const ReferenceTrajectory& ref = report.reference;
+  report.positions = ref.ok && ref.grid.has_positions();
   if (g_interrupt_requested.load()) {
     report.interrupted = true;
     report.stopped = fmt::format("interrupted by {} while making the reference; no combination was run",
@@ -277,7 +277,7 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
     }
     const IdaCounters& c = row.outcome.run.counters;
     // A mechanism's bodies have positions too (a particle only a position).
-    const std::string error = report.multibody ? fmt::format("{} rad, {} m", sci(row.error_final_rad),
+    const std::string error = report.positions ? fmt::format("{} rad, {} m", sci(row.error_final_rad),
                                                              sci(row.accuracy.position_m.final))
                                                : sci(row.error_final_rad);
     say(fmt::format("[{}/{}] {:<28} {:<8} {:>8} steps {:>8.3f} s  final error {}", k + 1, total, row.combination.name(),
@@ -302,7 +302,7 @@ namespace {
 // The error a row is ranked by (see IntegratorRanking); NaN when it has none.
 double ranked_error(const CompareReport& r, const CompareRow& row) {
   if (row.outcome.run.status != RunStatus::Success || !r.reference.ok) return kNaN;
-  return r.multibody ? row.accuracy.position_m.max : row.error_max_rad;
+  return r.positions ? row.accuracy.position_m.max : row.error_max_rad;
 }
 
 // At most this many levels (the smallest errors kept): 1e-1 ... 1e-12 fits.
@@ -312,7 +312,7 @@ constexpr int kMaxRankingLevels = 12;
 
 IntegratorRanking rank_integrators(const CompareReport& r) {
   IntegratorRanking k;
-  k.unit = r.multibody ? "m" : "rad";
+  k.unit = r.positions ? "m" : "rad";
   double largest = 0.0, smallest = std::numeric_limits<double>::infinity();
   for (const CompareRow& row : r.rows) {
     const std::string label = row.combination.integrator_label();
@@ -357,7 +357,7 @@ std::string format_integrator_ranking(const CompareReport& r) {
   std::string s = fmt::format(
       "integrators to each error (largest error on the grid, {}{}): wall s of each integrator's fastest row "
       "reaching it, * the fastest, - none reaches it\n",
-      k.unit, r.multibody ? ", the worst body's centre of mass" : ", rotation");
+      k.unit, r.positions ? ", the worst body's centre of mass" : ", rotation");
   std::vector<std::size_t> width;
   s += fmt::format("  {:<9}", "error <=");
   for (const std::string& name : k.integrators) {
@@ -404,11 +404,11 @@ std::string format_compare_table(const CompareReport& r) {
   s += fmt::format("{:<{}} {:<8} {:>8} {:>9} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>21} {:>8} {:>8}{}\n",
                    "combination", width, "status", "steps", "res.evals", "jacs", "wall s", "max|Phi|", "max|dPhi|",
                    "max|dE/E|", "err end", "err max", "lambda range J", "max|mu|", "restarts",
-                   r.multibody ? fmt::format(" {:>9} {:>9}", "pos end m", "pos max m") : "");
+                   r.positions ? fmt::format(" {:>9} {:>9}", "pos end m", "pos max m") : "");
   for (const CompareRow& row : r.rows) {
     const IdaCounters& c = row.outcome.run.counters;
     const RunExtremes& x = row.outcome.extremes;
-    const bool constrained = r.multibody || has_constraints(row.combination.coordinates);
+    const bool constrained = row.outcome.constrained;
     const std::string lambda =
         std::isnan(row.lambda_min) ? "-" : fmt::format("[{:.3g}, {:.3g}]", row.lambda_min, row.lambda_max);
     s += fmt::format("{:<{}} {:<8} {:>8} {:>9} {:>6} {:>8.3f} {:>8} {:>8} {:>8} {:>8} {:>8} {:>21} {:>8} {:>8}{}\n",
@@ -417,7 +417,7 @@ std::string format_compare_table(const CompareReport& r) {
                      constrained ? sci(x.max_drift_position) : "-", constrained ? sci(x.max_drift_velocity) : "-",
                      sci(x.max_abs_energy_error), sci(row.error_final_rad), sci(row.error_max_rad), lambda,
                      sci(row.mu_abs_max), c.restarts,
-                     r.multibody ? fmt::format(" {:>9} {:>9}", sci(row.accuracy.position_m.final),
+                     r.positions ? fmt::format(" {:>9} {:>9}", sci(row.accuracy.position_m.final),
                                                sci(row.accuracy.position_m.max))
                                  : "");
   }
@@ -450,14 +450,12 @@ std::string format_compare_table(const CompareReport& r) {
       any_unestimated = true;
       s += fmt::format("  {}: {}\n", row.combination.name(), row.verdict.not_estimated);
     }
-  if (r.multibody)
-    s += "units: drift max |Phi| over the joints (m for point rows, rad for angular rows), |G v| (m/s, rad/s); "
-         "dE/E (H - H0)/max(|H0|, 1 J); errors are the worst body's: rotation angle to the reference in rad, "
-         "centre-of-mass distance (pos) in m; wall is the median of the repeats; res.evals include those spent on "
-         "difference Jacobians\n";
-  else
-    s += "units: drift |Phi| 1, |dPhi/dt| 1/s; errors are rotation angles to the reference in rad; wall is the median "
-         "of the repeats; res.evals include those spent on difference Jacobians\n";
+  s += fmt::format(
+      "units: drift max |Phi| over the constraint rows (1 for a body's own rows, m for point rows, rad for angular "
+      "rows) and max |dPhi/dt| (1/s, m/s, rad/s); dE/E the energy error over the initial energy (docs/"
+      "accuracy_check.md); errors are the worst body's: rotation angle to the reference in rad{}; wall is the median "
+      "of the repeats; res.evals include those spent on difference Jacobians\n",
+      r.positions ? ", centre-of-mass distance (pos) in m" : "");
   return s;
 }
 
@@ -467,10 +465,10 @@ void write_compare_outputs(const CompareReport& r, const std::filesystem::path& 
     std::ostringstream f;
     f << fmt::format("# units: wall_s s (median of repeats); drift_position 1{}; drift_velocity 1/s; error_*_rad rad to the "
                      "reference {}{} (estimated accuracy {:.3e} rad{}); error_position_* m; lambda J; mu 1/s\n",
-                     r.multibody ? " (multibody: max |Phi| over the joints, m or rad)" : "",
+                     " (max |Phi| over the constraint rows: 1, m or rad)",
                      r.reference.combination,
                      r.reference.exact ? "" : fmt::format(" at rtol {:g}", r.reference.rtol), r.reference.accuracy_rad,
-                     r.multibody ? "; multibody: the worst body" : "");
+                     "; the worst body");
     f << "combination,coordinates,equations,scheme,status,steps,residual_evals,jacobian_residual_evals,jacobian_evals,"
          "nonlinear_iters,error_test_fails,nonlinear_conv_fails,restarts,projections,chart_switches,wall_s,repeats,"
          "max_drift_position,max_drift_velocity,max_abs_energy_rel_error,error_final_rad,error_max_rad,lambda_min,"
@@ -508,7 +506,7 @@ void write_compare_outputs(const CompareReport& r, const std::filesystem::path& 
     for (const CompareRow& row : r.rows) {
       const IdaCounters& c = row.outcome.run.counters;
       const RunExtremes& x = row.outcome.extremes;
-      const bool constrained = r.multibody || has_constraints(row.combination.coordinates);
+      const bool constrained = row.outcome.constrained;
       f << fmt::format("| {} | {} | {} | {} | {:.3f} | {} | {} | {} | {} | {} | {} | {} |\n", row.combination.name(),
                        to_string(row.outcome.run.status), c.steps, c.residual_evals + c.jacobian_residual_evals,
                        row.wall_median, constrained ? sci(x.max_drift_position) : "–",

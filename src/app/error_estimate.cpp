@@ -7,19 +7,18 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <fstream>
-#include <sstream>
 #include <tuple>
 #include <vector>
 
 #include "counters_json.hpp"
-#include "rigidae/app/body_grid.hpp"
 #include "rigidae/app/multibody_accuracy_check.hpp"
 #include "rigidae/app/reference.hpp"
 #include "rigidae/solver/ida_driver.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/io/checked_file.hpp"
+#include "rigidae/model/one_body_system.hpp"
+#include "rigidae/record/trajectory_csv.hpp"
 #include "rigidae/settings/settings.hpp"
 #include "rigidae/so3/rotation.hpp"
 
@@ -27,69 +26,22 @@ namespace rigidae {
 
 namespace {
 
-// The orientations of a trajectory.csv: one quaternion per body (columns qw..qz
-// of one body, BODY.qw..BODY.qz of each body of a multibody run) per row.
-struct Orientations {
-  std::vector<double> t;
-  std::vector<std::vector<Vec4>> q;  // [row][body]
-};
-
-Orientations read_orientations(const std::filesystem::path& csv) {
-  std::ifstream in(csv);
-  if (!in) throw InputError(fmt::format("{}: cannot read", csv.string()));
-  std::string line;
-  std::getline(in, line);  // units
-  if (!std::getline(in, line)) throw InputError(fmt::format("{}: no header line", csv.string()));
-  std::vector<std::string> header;
-  {
-    std::stringstream cells(line);
-    std::string cell;
-    while (std::getline(cells, cell, ',')) header.push_back(cell);
-  }
-  std::vector<std::size_t> qw;  // the column of each body's qw
-  for (std::size_t k = 0; k + 3 < header.size(); ++k) {
-    const std::string& h = header[k];
-    if (h == "qw" || (h.size() > 3 && h.compare(h.size() - 3, 3, ".qw") == 0)) qw.push_back(k);
-  }
-  if (header.empty() || header[0] != "t" || qw.empty())
-    throw InputError(fmt::format("{}: not a trajectory (no t and qw columns)", csv.string()));
-  Orientations o;
-  std::vector<double> row;
-  while (std::getline(in, line)) {
-    row.clear();
-    const char* p = line.c_str();
-    char* end = nullptr;
-    while (*p) {
-      row.push_back(std::strtod(p, &end));
-      p = *end == ',' ? end + 1 : end;
-      if (*end != ',') break;
-    }
-    if (row.size() < header.size()) break;  // a row cut short: the rows before it stand
-    o.t.push_back(row[0]);
-    std::vector<Vec4> qs;
-    for (std::size_t c : qw) qs.emplace_back(row[c], row[c + 1], row[c + 2], row[c + 3]);
-    o.q.push_back(std::move(qs));
-  }
-  return o;
-}
-
-// Angles between two runs' orientations on the common output grid: the
-// largest over bodies, then the last point and the largest over points.
-OrientationError compare(const Orientations& a, const std::vector<double>& t_b,
-                         const std::vector<std::vector<Vec4>>& q_b) {
+// Angles between two grids' orientations on the common output grid (the
+// worst body per point): at the last point and the largest over points.
+OrientationError compare_orientations(const BodyGrid& run, const BodyGrid& other) {
   OrientationError e;
-  const std::size_t n = std::min(a.t.size(), t_b.size());
+  const std::size_t n = std::min(run.t.size(), other.t.size());
   if (n == 0) return e;
   e.max = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    if (std::abs(a.t[i] - t_b[i]) > 1e-9 * (1.0 + std::abs(t_b[i])))
-      throw InputError(fmt::format("output grids differ at point {}: t = {} s and {} s", i, a.t[i], t_b[i]));
+    if (std::abs(run.t[i] - other.t[i]) > 1e-9 * (1.0 + std::abs(other.t[i])))
+      throw InputError(fmt::format("output grids differ at point {}: t = {} s and {} s", i, run.t[i], other.t[i]));
     double worst = 0.0;
-    for (std::size_t b = 0; b < std::min(a.q[i].size(), q_b[i].size()); ++b)
-      worst = std::max(worst, so3::quaternion_distance(a.q[i][b], q_b[i][b]));
+    for (std::size_t b = 0; b < std::min(run.bodies.size(), other.bodies.size()); ++b)
+      worst = std::max(worst, so3::quaternion_distance(run.q_WB[i][b], other.q_WB[i][b]));
     e.max = std::max(e.max, worst);
     e.final = worst;
-    e.t_final = a.t[i];
+    e.t_final = run.t[i];
   }
   return e;
 }
@@ -103,26 +55,23 @@ nlohmann::json error_json(const OrientationError& e) {
 }
 
 // The companion's grid against the run's, body by body: orientation angle
-// and (multibody) centre-of-mass distance / L, the worst body per point.
-void compare_bodies(const BodyGrid& run, const BodyGrid& companion, double L, ErrorEstimate& e) {
-  const std::size_t n = std::min(run.t.size(), companion.t.size());
-  const std::size_t nb = std::min(run.bodies.size(), companion.bodies.size());
-  if (n == 0 || nb == 0 || run.bodies != companion.bodies)
+// and, where the files record positions (a mechanism's), the centre-of-mass
+// distance over the system's size L, the worst body per point.
+void compare_bodies(const Scene& scene, const BodyGrid& run, const BodyGrid& companion, ErrorEstimate& e) {
+  if (run.t.empty() || companion.t.empty() || run.bodies.empty() || run.bodies != companion.bodies)
     throw InputError("the run's and the companion's trajectory.csv hold different bodies or no grid point");
-  e.orientation.max = e.position_rel_max = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (std::abs(run.t[i] - companion.t[i]) > 1e-9 * (1.0 + std::abs(companion.t[i])))
-      throw InputError(fmt::format("output grids differ at point {}: t = {} s and {} s", i, run.t[i], companion.t[i]));
-    double a = 0.0, x = 0.0;
-    for (std::size_t b = 0; b < nb; ++b) {
-      a = std::max(a, so3::quaternion_distance(run.q_WB[i][b], companion.q_WB[i][b]));
-      x = std::max(x, (run.x_W[i][b] - companion.x_W[i][b]).norm() / L);
-    }
-    e.orientation.max = std::max(e.orientation.max, a);
+  if (run.t.size() != companion.t.size())
+    throw InputError(fmt::format("the run has {} output points, the companion {}", run.t.size(), companion.t.size()));
+  e.orientation = compare_orientations(run, companion);
+  if (!run.has_positions() || !companion.has_positions()) return;
+  e.length_scale_m = mechanism_size(*as_system(scene).multibody);
+  e.position_rel_max = 0.0;
+  for (std::size_t i = 0; i < run.t.size(); ++i) {
+    double x = 0.0;
+    for (std::size_t b = 0; b < run.bodies.size(); ++b)
+      x = std::max(x, (run.x_W[i][b] - companion.x_W[i][b]).norm() / e.length_scale_m);
     e.position_rel_max = std::max(e.position_rel_max, x);
-    e.orientation.final = a;
     e.position_rel_final = x;
-    e.orientation.t_final = run.t[i];
   }
 }
 
@@ -148,7 +97,6 @@ std::pair<double, double> tight_tolerances(const SolverSettings& run) {
 
 void judge(ErrorEstimate& e, const Scene& scene) {
   e.tolerance = std::max(scene.solver.rtol, scene.solver.atol);
-  if (scene.multibody) e.length_scale_m = mechanism_size(*scene.multibody);
   e.limit = kVerdictFactor * e.tolerance;
   e.warnings.clear();
   e.branch_disagreement = false;
@@ -162,7 +110,7 @@ void judge(ErrorEstimate& e, const Scene& scene) {
   // run (either may have switched branch: on problems/singular_linkage.toml
   // runs within 1e-5 rad of the closed form had companions 1.7-2.6 rad away),
   // so the difference is reported as what it is, not as the run's error.
-  const bool after_singular_pose = scene.multibody && e.source == EstimateSource::Companion && e.singular_pose_passed;
+  const bool after_singular_pose = e.source == EstimateSource::Companion && e.singular_pose_passed;
   auto warn = [&](const char* quantity, double value, const std::string& what) {
     if (!(value > e.limit) && std::isfinite(value)) return;
     e.warnings.push_back({quantity, value, e.limit, kVerdictFactor, e.tolerance,
@@ -174,9 +122,8 @@ void judge(ErrorEstimate& e, const Scene& scene) {
                                                           : "the results are far less accurate than the tolerance "
                                                             "suggests")});
   };
-  warn("orientation_error", e.orientation.max,
-       scene.multibody ? "rad, the largest over the output grid and the bodies" : "rad, the largest over the output grid");
-  if (scene.multibody && e.source == EstimateSource::Companion) {
+  warn("orientation_error", e.orientation.max, "rad, the largest over the output grid and the bodies");
+  if (e.source == EstimateSource::Companion && std::isfinite(e.position_rel_max)) {
     warn("position_error", e.position_rel_max,
          fmt::format("the largest centre-of-mass distance over the output grid and the bodies relative to the "
                      "mechanism's size L = {:.3g} m",
@@ -263,18 +210,8 @@ ErrorEstimate estimate_global_error(const Scene& scene, const SolveOutcome& run,
   };
   e.singular_pose_passed = passed_singular_pose(run) || passed_singular_pose(t);
   try {
-    if (scene.multibody) {
-      e.length_scale_m = mechanism_size(*scene.multibody);
-      compare_bodies(read_body_grid(run.out_dir / "trajectory.csv"), read_body_grid(e.tight_dir / "trajectory.csv"),
-                     e.length_scale_m, e);
-    } else {
-      const Orientations mine = read_orientations(run.out_dir / "trajectory.csv");
-      const Orientations tight_grid = read_orientations(e.tight_dir / "trajectory.csv");
-      e.orientation = compare(mine, tight_grid.t, tight_grid.q);
-      if (mine.t.size() != tight_grid.t.size())
-        throw InputError(fmt::format("the run has {} output points, the companion {}", mine.t.size(),
-                                     tight_grid.t.size()));
-    }
+    compare_bodies(scene, read_trajectory_csv(run.out_dir / "trajectory.csv"),
+                   read_trajectory_csv(e.tight_dir / "trajectory.csv"), e);
   } catch (const std::runtime_error& x) {
     return not_estimated(fmt::format("the companion's output grid cannot be compared: {}", x.what()));
   }
@@ -294,20 +231,17 @@ ErrorEstimate accuracy_verdict(const Scene& scene, const SolveOutcome& run, bool
     judge(none, scene);
     return none;
   }
-  if (!scene.multibody) {
-    std::string why;
-    if (const std::optional<ReferenceTrajectory> exact = exact_reference(scene, &why)) {
-      ErrorEstimate e;
-      if (companion) {
-        e = estimate_global_error(scene, run);
-        if (e.estimated()) e.companion_orientation = e.orientation;
-      }
-      e.source = EstimateSource::ClosedForm;
-      e.not_estimated.clear();
-      e.orientation = error_against(run, *exact);
-      judge(e, scene);
-      return e;
+  if (const std::optional<ReferenceTrajectory> exact = exact_reference(scene, nullptr)) {
+    ErrorEstimate e;
+    if (companion) {
+      e = estimate_global_error(scene, run);
+      if (e.estimated()) e.companion_orientation = e.orientation;
     }
+    e.source = EstimateSource::ClosedForm;
+    e.not_estimated.clear();
+    e.orientation = error_against(run, *exact);
+    judge(e, scene);
+    return e;
   }
   if (companion) return estimate_global_error(scene, run);
   ErrorEstimate e;
@@ -318,11 +252,7 @@ ErrorEstimate accuracy_verdict(const Scene& scene, const SolveOutcome& run, bool
 }
 
 OrientationError error_against(const SolveOutcome& run, const ReferenceTrajectory& reference) {
-  const Orientations mine = read_orientations(run.out_dir / "trajectory.csv");
-  std::vector<std::vector<Vec4>> q;
-  q.reserve(reference.q_WB.size());
-  for (const Vec4& x : reference.q_WB) q.push_back({x});
-  return compare(mine, reference.t, q);
+  return compare_orientations(read_trajectory_csv(run.out_dir / "trajectory.csv"), reference.grid);
 }
 
 void add_closed_form_error_to_summary(const std::filesystem::path& summary, const OrientationError& e) {

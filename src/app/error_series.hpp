@@ -1,7 +1,6 @@
 #pragma once
 // One error group accumulated over an output grid (RMS, max, last), for the
-// single-body and the multibody accuracy reports (accuracy.cpp,
-// multibody_accuracy.cpp).
+// accuracy report (accuracy.cpp).
 #include <algorithm>
 #include <cmath>
 

@@ -25,24 +25,8 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kSummary = "reference.json";
 
-// Largest angle between two grid orientations over the points both have.
-double max_angle(const std::vector<Vec4>& a, const std::vector<Vec4>& b) {
-  const std::size_t n = std::min(a.size(), b.size());
-  double m = 0.0;
-  for (std::size_t i = 0; i < n; ++i) m = std::max(m, so3::quaternion_distance(a[i], b[i]));
-  return n > 0 ? m : kNaN;
-}
-
 void fill_from_run(ReferenceTrajectory& ref, const std::filesystem::path& dir) {
-  if (ref.multibody) {
-    ref.bodies = read_body_grid(dir / "reference" / "trajectory.csv");
-    ref.t = ref.bodies.t;
-    return;
-  }
-  GridTrajectory g = read_trajectory_csv(dir / "reference" / "trajectory.csv");
-  ref.t = std::move(g.t);
-  ref.q_WB = std::move(g.q_WB);
-  ref.omega_B = std::move(g.omega_B);
+  ref.grid = read_trajectory_csv(dir / "reference" / "trajectory.csv");
 }
 
 }  // namespace
@@ -64,22 +48,19 @@ std::string ReferenceTrajectory::describe() const {
 }
 
 std::optional<ReferenceTrajectory> exact_reference(const Scene& scene, std::string* why) {
-  if (scene.multibody) {
-    if (why) *why = "a scene with bodies and joints (schema_version = 2) has no closed form in rigidae";
-    return std::nullopt;
-  }
   const std::unique_ptr<exact::ExactSolution> closed_form = exact::find_exact_solution(scene, why);
   if (!closed_form) return std::nullopt;
   ReferenceTrajectory ref;
   ref.exact = ref.ok = true;
   ref.combination = "exact: " + closed_form->name();
   ref.accuracy_rad = closed_form->accuracy();
+  // A closed form is one body's rotation: the one-body layout.
+  ref.grid.layout = GridLayout::OneBody;
+  ref.grid.bodies = {"body"};
   const OutputGrid grid(scene.time);
   for (std::size_t k = 0; k < grid.size(); ++k) {
     const exact::RotationState s = closed_form->at(grid[k]);
-    ref.t.push_back(grid[k]);
-    ref.q_WB.push_back(so3::matrix_to_quaternion(s.R_WB));
-    ref.omega_B.push_back(s.omega_B);
+    ref.grid.add_point(grid[k], {so3::matrix_to_quaternion(s.R_WB)}, {}, {s.omega_B});
   }
   return ref;
 }
@@ -106,12 +87,11 @@ ReferenceTrajectory make_reference(const Scene& scene, const std::string& kind, 
   }
   ReferenceTrajectory ref;
   ref.rtol = tight_rtol;
-  ref.multibody = scene.multibody.has_value();
   const Combination ref_combo{Coordinates::Quaternion, Equations::Euler, "ggl"};
-  // A multibody scene's Euler-angle bodies still carry the joints: the check
-  // takes linear coordinates (no chart switches to add their own error).
-  const Combination check_combo = ref.multibody ? Combination{Coordinates::Linear, Equations::Euler, "ggl"}
-                                                : Combination{Coordinates::EulerAngles, Equations::Euler, "any"};
+  // The check takes other coordinates with no chart (Euler angles' chart
+  // switches would add their own error; a mechanism's Euler-angle bodies
+  // still carry the joints' rows).
+  const Combination check_combo{Coordinates::Linear, Equations::Euler, "ggl"};
   ref.combination = ref_combo.name();
   ref.check_combination = check_combo.name();
   auto tight = [&](const Combination& c) {
@@ -132,17 +112,13 @@ ReferenceTrajectory make_reference(const Scene& scene, const std::string& kind, 
   ref.accuracy_rad = kNaN;
   if (ref.ok) {
     fill_from_run(ref, dir);
-    if (ref.multibody)
-      ref.accuracy_rad = max_body_angle(read_body_grid(dir / "reference-check" / "trajectory.csv"), ref.bodies);
-    else
-      ref.accuracy_rad = max_angle(read_trajectory_csv(dir / "reference-check" / "trajectory.csv").q_WB, ref.q_WB);
+    ref.accuracy_rad = max_body_angle(read_trajectory_csv(dir / "reference-check" / "trajectory.csv"), ref.grid);
   }
   nlohmann::json j{{"ok", ref.ok},
                    {"message", ref.message},
                    {"combination", ref.combination},
                    {"check_combination", ref.check_combination},
                    {"rtol", ref.rtol},
-                   {"multibody", ref.multibody},
                    {"accuracy_rad", ref.accuracy_rad}};
   write_file_atomically(dir / kSummary, j.dump(2) + "\n");
   return ref;
@@ -164,7 +140,6 @@ std::optional<ReferenceTrajectory> read_reference(const std::filesystem::path& d
   ref.combination = j.value("combination", "");
   ref.check_combination = j.value("check_combination", "");
   ref.rtol = j.value("rtol", 0.0);
-  ref.multibody = j.value("multibody", false);
   ref.accuracy_rad = j["accuracy_rad"].is_number() ? j["accuracy_rad"].get<double>() : kNaN;
   fill_from_run(ref, dir);
   return ref;

@@ -182,6 +182,14 @@ SolveOutcome run_scene(const Scene& scene, const std::filesystem::path& out_dir,
   o.note = columns->note(scheme->note(*system.bodies().front().rep));
   if (const OneBodyView* one = columns->one_body()) o.multiplier_names = one->multiplier_names();
   o.unknowns = system.size();
+  // Drift is measured on every constraint: the rows the DAE carries and the
+  // coordinates' own (an Euler-form quaternion on an ODE integrator keeps
+  // |q| = 1 by projection, with no row in the system).
+  o.constrained = std::any_of(system.blocks().begin(), system.blocks().end(),
+                              [](const multibody::ConstraintBlock& b) { return b.nr > 0; }) ||
+                  std::any_of(system.bodies().begin(), system.bodies().end(), [](const multibody::BodyModel& b) {
+                    return b.rep != nullptr && !b.rep->constraint_names().empty();
+                  });
   o.scheme_parameters = scheme->parameters();
   o.multipliers_error =
       multiplier_error_control(scene.solver.integrator, system.suppress_algebraic_error_test(), o.scheme);

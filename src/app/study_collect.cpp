@@ -183,7 +183,7 @@ std::string collect_study(const StudySpec& spec, const fs::path& out, std::vecto
     f << "# units: wall s (min and median of the timed repeats after the warm-ups, runs recording nothing; "
          "recorded_wall_s: the run that wrote the grid); orientation errors rad (angle to the reference; multibody: "
          "the worst body), final_state_error_rad from a timed run's final state; position errors m (multibody: the "
-         "worst body's centre of mass); angular velocity errors rad/s (|delta omega_B|; multibody: space frame); lambda errors J and mu errors 1/s (max "
+         "worst body's centre of mass); angular velocity errors rad/s (|delta omega_B|, body frame); lambda errors J and mu errors 1/s (max "
          "over the multipliers); _l2 is the root mean square over the output grid; scd/mescd as the IVP Test Set "
          "defines them on the final (q_WB, omega_B); drift |Phi| 1, |dPhi/dt| 1/s\n";
     for (std::size_t k = 0; k < std::size(kColumns); ++k) f << (k ? "," : "") << kColumns[k].name;

@@ -156,10 +156,6 @@ StudySpec read_study(const TomlReader& r, const toml::table& root) {
     spec.reference = std::get<std::string>(setting_value(r, *n, settings::study_setting("reference"), "reference"));
     for (const Scene& scene : spec.scenes) {
       std::string why;
-      if (spec.reference == "exact" && scene.multibody)
-        r.fail(*n, fmt::format("'reference' = \"exact\" but scene '{}' has bodies and joints (schema_version = 2), "
-                               "which have no closed-form solution (use \"auto\" or \"tight\")",
-                               scene.name));
       if (spec.reference == "exact" && !exact::find_exact_solution(scene, &why))
         r.fail(*n, fmt::format("'reference' = \"exact\" but scene '{}' has no closed-form solution: {} (use "
                                "\"auto\" or \"tight\")",

@@ -47,18 +47,15 @@ UnrecordedRun system_run(const Scene& scene) {
     r.run.message = e.what();
   }
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  r.last.t = {sink.t_};
   std::vector<Vec4> q;
   std::vector<Vec3> x, w;
   for (int i = 0; i < static_cast<int>(problem.bodies().size()); ++i) {
     r.last.bodies.push_back(problem.bodies()[i].name);
     q.push_back(problem.body_orientation(i, sink.y_.data()));
     x.push_back(problem.body_position(i, sink.y_.data()));
-    w.push_back(problem.body_omega_space(i, sink.y_.data()));
+    w.push_back(so3::quaternion_to_matrix(q.back()).transpose() * problem.body_omega_space(i, sink.y_.data()));
   }
-  r.last.q_WB = {q};
-  r.last.x_W = {x};
-  r.last.omega_W = {w};
+  r.last.add_point(sink.t_, std::move(q), std::move(x), std::move(w));
   return r;
 }
 
@@ -68,17 +65,15 @@ UnrecordedRun run_unrecorded(const Scene& scene) { return system_run(as_system(s
 
 double final_orientation_error(const UnrecordedRun& r, const ReferenceTrajectory& ref) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  if (!ref.ok || r.run.status != RunStatus::Success || r.last.t.empty() || ref.t.empty()) return kNaN;
-  if (std::abs(r.last.t[0] - ref.t.back()) > 1e-9 * std::max(1.0, std::abs(ref.t.back()))) return kNaN;
+  const BodyGrid& g = ref.grid;
+  if (!ref.ok || r.run.status != RunStatus::Success || r.last.t.empty() || g.t.empty()) return kNaN;
+  if (std::abs(r.last.t[0] - g.t.back()) > 1e-9 * std::max(1.0, std::abs(g.t.back()))) return kNaN;
+  const std::vector<Vec4>& q_ref = g.q_WB.back();
+  if (q_ref.size() != r.last.q_WB[0].size()) return kNaN;
   double worst = 0.0;
-  if (ref.multibody) {
-    const std::vector<Vec4>& q_ref = ref.bodies.q_WB.back();
-    if (q_ref.size() != r.last.q_WB[0].size()) return kNaN;
-    for (std::size_t b = 0; b < q_ref.size(); ++b)
-      worst = std::max(worst, so3::quaternion_distance(r.last.q_WB[0][b], q_ref[b]));
-    return worst;
-  }
-  return so3::quaternion_distance(r.last.q_WB[0][0], ref.q_WB.back());
+  for (std::size_t b = 0; b < q_ref.size(); ++b)
+    worst = std::max(worst, so3::quaternion_distance(r.last.q_WB[0][b], q_ref[b]));
+  return worst;
 }
 
 }  // namespace rigidae

@@ -9,12 +9,12 @@
 
 namespace rigidae::cli {
 
-// Writes t, qw..qz, omega_x..z of `ref` (with a units line, like
-// trajectory.csv) to `path`, whole under a temporary name; a multibody
-// reference (schema 2) as t and per body BODY.qw..qz, BODY.wx..wz (space
-// frame), BODY.x..z, the names of a multibody trajectory.csv. Nothing is
-// written when the reference is not usable (!ref.ok). Throws OutputError on a
-// failed write.
+// Writes `ref`'s grid (with a units line, like trajectory.csv) to `path`,
+// whole under a temporary name, in the layout of the runs it is compared
+// with (record/trajectory_csv.hpp, grid_csv_text): t, qw..qz, omega_x..z for
+// one body; t and per body BODY.qw..qz, BODY.wx..wz (space frame),
+// BODY.x..z for a mechanism. Nothing is written when the reference is not
+// usable (!ref.ok). Throws OutputError on a failed write.
 void write_reference_csv(const ReferenceTrajectory& ref, const std::filesystem::path& path);
 
 }  // namespace rigidae::cli

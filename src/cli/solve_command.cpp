@@ -85,7 +85,7 @@ int solve_command(const std::vector<std::string>& args) {
   // closed form kept beside the run (reference.csv) to draw error against time.
   // Only for a run that reached the end: the closed form is evaluated on the
   // whole output grid, which an interrupted run of a long span never wrote.
-  if (!scene.multibody && scene.output.record != RecordMode::None && o.run.status == RunStatus::Success)
+  if (scene.output.record != RecordMode::None && o.run.status == RunStatus::Success)
     if (const auto ref = exact_reference(scene, nullptr)) {
       write_reference_csv(*ref, out / "reference.csv");
       const OrientationError e = error_against(o, *ref);

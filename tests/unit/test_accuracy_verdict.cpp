@@ -15,7 +15,7 @@
 #include <string>
 
 #include "cli_runner.hpp"
-#include "rigidae/app/body_grid.hpp"
+#include "rigidae/record/trajectory_csv.hpp"
 #include "rigidae/app/error_estimate.hpp"
 #include "rigidae/app/multibody_accuracy_check.hpp"
 #include "rigidae/app/reference.hpp"
@@ -52,7 +52,7 @@ TEST_CASE("verdict: a mechanism's companion estimate is its error against a tigh
   truth_scene.formulation.coordinates = Coordinates::Linear;
   const fs::path dir = test::fresh_temp_dir("verdict_four_bar");
   REQUIRE(solve_scene(truth_scene, dir / "truth").run.status == RunStatus::Success);
-  const BodyGrid truth = read_body_grid(dir / "truth" / "trajectory.csv");
+  const BodyGrid truth = read_trajectory_csv(dir / "truth" / "trajectory.csv");
   for (const double rtol : {1e-4, 1e-6}) {
     CAPTURE(rtol);
     const Scene s = problem("four_bar", 0.5, rtol);
@@ -64,7 +64,7 @@ TEST_CASE("verdict: a mechanism's companion estimate is its error against a tigh
     CHECK(e.rtol == doctest::Approx(rtol / 100));
     CHECK(std::isfinite(e.companion_wall_s));
     CHECK(e.length_scale_m == doctest::Approx(mechanism_size(*s.multibody)));
-    const BodyGrid run = read_body_grid(run_dir / "trajectory.csv");
+    const BodyGrid run = read_trajectory_csv(run_dir / "trajectory.csv");
     REQUIRE(run.t.size() == truth.t.size());
     double angle = 0.0, position = 0.0;
     for (std::size_t i = 0; i < run.t.size(); ++i)
@@ -149,7 +149,7 @@ TEST_CASE("verdict: after a singular pose a disagreeing companion is a branch qu
                                         out.string());
   REQUIRE(r.exit_code == 0);
   // The truth: theta = pi/3 + 2 pi t; crank and rocker turned about y by -theta, the coupler not turned.
-  const BodyGrid g = read_body_grid(out / "trajectory.csv");
+  const BodyGrid g = read_trajectory_csv(out / "trajectory.csv");
   REQUIRE(g.bodies == std::vector<std::string>{"crank", "coupler", "rocker"});
   double off = 0.0;
   for (std::size_t i = 0; i < g.t.size(); ++i) {

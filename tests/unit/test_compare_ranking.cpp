@@ -100,7 +100,7 @@ TEST_CASE("compare ranking: the printed table marks the fastest and names its ro
 
 TEST_CASE("compare ranking: a mechanism is ranked by its centre-of-mass error in m") {
   CompareReport r = report();
-  r.multibody = true;
+  r.positions = true;
   const IntegratorRanking k = rank_integrators(r);
   CHECK(k.unit == "m");
   REQUIRE(k.levels.size() == 4);  // 2e-3 ... 2e-6 m

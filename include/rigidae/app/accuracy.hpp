@@ -6,8 +6,6 @@
 #include <filesystem>
 #include <limits>
 
-#include "rigidae/app/body_grid.hpp"
-
 #include "rigidae/app/reference.hpp"
 #include "rigidae/core/types.hpp"
 #include "rigidae/model/scene.hpp"
@@ -21,16 +19,20 @@ struct ErrorStats {
   double max = std::numeric_limits<double>::quiet_NaN();    // over the grid points reached
 };
 
-// A multibody scene (schema 2) fills the same groups, each the largest over
-// the bodies at a grid point: orientation_rad the largest rotation angle of
-// R_ref^T R, angular_velocity the largest |omega_W - omega_W,ref| (space
-// frame), position_m the largest centre-of-mass distance |x - x_ref|; lambda
-// and mu stay NaN (joint reactions are not compared); scd and mescd are taken
-// over every body's final (q_WB aligned in sign, x_W, omega_W).
+// Every scene is measured the same way, body by body on the output grid
+// (record/trajectory_csv.hpp's BodyGrid; a one-body scene is one body),
+// each group the largest over the bodies at a grid point: orientation_rad
+// the rotation angle of R_ref^T R, angular_velocity |omega_B - omega_B,ref|
+// (body frame), position_m the centre-of-mass distance |x - x_ref| where
+// the files record positions (a mechanism's; a one-body scene turns about a
+// fixed point); lambda and mu where the run's file names its multipliers
+// lambda_*, mu_* (the one-body column set: a mechanism's joint reactions are
+// not compared); scd and mescd over every body's final (q_WB aligned in
+// sign, x_W where recorded, omega_B).
 struct RunAccuracy {
   ErrorStats orientation_rad;   // angle of R_ref^T R
   ErrorStats angular_velocity;  // |omega_B - omega_B,ref|, rad/s
-  ErrorStats position_m;        // multibody only: max over bodies |x_W - x_W,ref|, m
+  ErrorStats position_m;        // max over bodies |x_W - x_W,ref|, m; NaN where no position is recorded
   ErrorStats lambda;            // max_i |lambda_i - lambda_i,ref|, J; NaN without force multipliers
   ErrorStats mu;                // max_i |mu_i|, 1/s (zero on the exact solution); NaN without them
   double scd = std::numeric_limits<double>::quiet_NaN();    // significant correct digits at the end
@@ -48,17 +50,12 @@ double significant_correct_digits(const Eigen::VectorXd& y, const Eigen::VectorX
 double mixed_significant_correct_digits(const Eigen::VectorXd& y, const Eigen::VectorXd& y_ref, double atol_over_rtol);
 
 // Errors of a run (scene = the formulation it ran) on the reference grid.
-// The multipliers' reference values are those the run's own DAE takes at
-// the reference state (its consistent start there). `reached_end`: the run
-// finished; otherwise the final errors stay NaN. scd and mescd are taken
-// over the final physical state (q_WB aligned in sign with the reference,
-// then omega_B).
-RunAccuracy measure_accuracy(const Scene& scene, const GridTrajectory& run, const ReferenceTrajectory& ref,
+// The multipliers' reference values are those the run's own system takes
+// at the reference state (its consistent start there). `reached_end`: the
+// run finished; otherwise the final errors stay NaN.
+RunAccuracy measure_accuracy(const Scene& scene, const BodyGrid& run, const ReferenceTrajectory& ref,
                              bool reached_end);
-// The same for a multibody run (the reference's `bodies` grid).
-RunAccuracy measure_multibody_accuracy(const Scene& scene, const BodyGrid& run, const ReferenceTrajectory& ref,
-                                       bool reached_end);
-// Either, reading the run's trajectory.csv in run_dir.
+// The same, reading the run's trajectory.csv in run_dir.
 RunAccuracy measure_run_accuracy(const Scene& scene, const std::filesystem::path& run_dir,
                                  const ReferenceTrajectory& ref, bool reached_end);
 

@@ -127,7 +127,10 @@ struct CompareRow {
 struct CompareReport {
   std::string scene_name, scene_source;
   double rtol = 0.0, atol = 0.0;
-  bool multibody = false;  // errors are the worst body's (app/accuracy.hpp), plus centre-of-mass positions
+  // The grids record centre-of-mass positions (a mechanism's files): the
+  // errors (app/accuracy.hpp, the worst body's) add the position's, and the
+  // integrators are ranked by it.
+  bool positions = false;
   ReferenceTrajectory reference;
   std::vector<CompareRow> rows;
   double run_timeout_s = 0.0;  // the per-run limit used (0: none)

@@ -1,23 +1,19 @@
 #pragma once
 // The reference a run's accuracy is measured against, on the scene's output
-// grid: the closed-form solution when the scene has one (exact/), or a tight
-// run of quaternion/euler/ggl whose accuracy is estimated by the largest angle
-// to a tight run in Euler angles (other coordinates, no constraint).
-//
-// A multibody scene (schema 2) has no closed form: its reference is a tight
-// run of quaternion/euler/ggl, cross-checked by a tight run of
-// linear/euler/ggl (other coordinates, no chart); the accuracy estimate is
-// the largest angle between the two over the grid and the bodies, and the
-// grid holds every body's orientation, position and angular velocity.
+// grid, in the one layout of every run's grid (record/trajectory_csv.hpp):
+// the closed-form solution when the scene has one (exact/), or a tight run
+// of quaternion/euler/ggl cross-checked by a tight run of linear/euler/ggl
+// (other coordinates, no chart); the accuracy estimate is the largest angle
+// between the two over the grid and the bodies.
 #include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "rigidae/app/body_grid.hpp"
 #include "rigidae/core/types.hpp"
 #include "rigidae/model/scene.hpp"
+#include "rigidae/record/trajectory_csv.hpp"
 
 namespace rigidae {
 
@@ -29,11 +25,7 @@ struct ReferenceTrajectory {
   std::string check_combination;  // the cross-check run's (tight only)
   double rtol = 0.0;              // of the tight runs
   double accuracy_rad = 0.0;      // estimated orientation accuracy over the grid
-  std::vector<double> t;          // the scene's output grid
-  std::vector<Vec4> q_WB;         // orientation on it
-  std::vector<Vec3> omega_B;      // angular velocity on it, rad/s
-  bool multibody = false;         // a schema-2 scene: `bodies` holds the grid, q_WB and omega_B stay empty
-  BodyGrid bodies;
+  BodyGrid grid;                  // on the scene's output grid
 
   // One line for reports.
   std::string describe() const;

@@ -25,6 +25,7 @@ struct SolveOutcome {
   std::filesystem::path out_dir;
   std::string representation, scheme, note;
   int unknowns = 0;  // of the system IDA integrates (the DAE's y)
+  bool constrained = false;  // the system has constraint rows (a body's own or joints'): drift is measured
   std::vector<std::string> multiplier_names;
   InvariantDrifts drifts;                 // the accuracy check's measures (app/accuracy_check.hpp)
   std::vector<AccuracyWarning> warnings;  // those past their limits

@@ -3,7 +3,6 @@
 // work-precision convention, save_everystep = false): the integrator writes
 // no step or grid file and observes no step; only the state at the last
 // output point is kept, from which the final error is taken.
-#include "rigidae/app/body_grid.hpp"
 #include "rigidae/app/reference.hpp"
 #include "rigidae/model/scene.hpp"
 #include "rigidae/solver/ida_driver.hpp"
@@ -14,7 +13,7 @@ struct UnrecordedRun {
   RunResult run;
   double wall_seconds = 0.0;  // the integration alone (no setup, no files)
   // The last output point only (one row): the system's bodies (a one-body
-  // scene's is named "body"), space angular velocities.
+  // scene's is named "body"); the layout of a mechanism's grid.
   BodyGrid last;
 };
 

@@ -1,8 +1,7 @@
 #pragma once
 // Reading back a run's trajectory.csv (the output grid), as the recorder
-// wrote it: orientation, angular velocity and multipliers by column name.
-// CsvRows is the one reader of the recorders' CSV files (single-body here,
-// multibody in app/body_grid.cpp).
+// wrote it, into one layout for every scene (BodyGrid). CsvRows is the one
+// reader of the recorders' CSV files.
 #include <cstddef>
 #include <filesystem>
 #include <fstream>
@@ -36,15 +35,51 @@ class CsvRows {
   std::vector<std::string> header_, cells_;
 };
 
-struct GridTrajectory {
-  std::vector<double> t;
-  std::vector<Vec4> q_WB;     // unit quaternion of R_WB, scalar first
-  std::vector<Vec3> omega_B;  // rad/s, body components
-  std::vector<std::string> multiplier_names;  // "lambda_*", "mu_*", in column order
-  std::vector<std::vector<double>> multipliers;  // [grid point][multiplier]
+// A run's output grid in the one layout every scene reads back into, one
+// body or many: per grid point, each body's orientation, centre-of-mass
+// position and angular velocity (body frame), plus the multipliers a
+// one-body file carries by name. Two column sets write trajectory.csv
+// (record/run_columns.hpp): the one-body set (t, qw..qz, omega_x..z in the
+// body frame, lambda_*, mu_*; no position: the body turns about a fixed
+// point or its centre of mass) and the mechanism set (BODY.qw..qz,
+// BODY.x..z, BODY.vx..vz, BODY.wx..wz in the space frame, per body; a
+// particle has no BODY.qw and no BODY.wx). The reader below, beside the
+// column sets that write them, is the one place that tells them apart.
+enum class GridLayout {
+  OneBody,  // the one-body column set's (unprefixed, one body named "body")
+  Bodies,   // the mechanism column set's (BODY.* per body)
 };
 
-// Throws InputError naming the file when it is missing or not a trajectory.
-GridTrajectory read_trajectory_csv(const std::filesystem::path& csv);
+struct BodyGrid {
+  GridLayout layout = GridLayout::Bodies;
+  std::vector<std::string> bodies;          // in column order
+  std::vector<double> t;                    // s
+  std::vector<std::vector<Vec4>> q_WB;      // [grid point][body], unit quaternion of R_WB, scalar first
+  std::vector<std::vector<Vec3>> x_W;       // [grid point][body], m; empty when the file records no position
+  std::vector<std::vector<Vec3>> omega_B;   // [grid point][body], rad/s, body components
+  std::vector<std::string> multiplier_names;     // "lambda_*", "mu_*", in column order (one-body files)
+  std::vector<std::vector<double>> multipliers;  // [grid point][multiplier]
+  bool empty() const { return bodies.empty(); }
+  bool has_positions() const { return !x_W.empty(); }
+  // The angular velocity of body b at point i in space components.
+  Vec3 omega_W(std::size_t i, std::size_t b) const;
+  // Appends one grid point.
+  void add_point(double t_i, std::vector<Vec4> q, std::vector<Vec3> x, std::vector<Vec3> w_B);
+};
+
+// Reads either column set's trajectory.csv (or a reference.csv written by
+// write_grid_csv). Throws InputError naming the file when it is missing or
+// holds neither layout.
+BodyGrid read_trajectory_csv(const std::filesystem::path& csv);
+
+// The grid as CSV text in its own layout, after one comment line `# units:
+// ...; ` + `note`: the one-body layout t, qw..qz, omega_x..z (body frame);
+// the bodies layout t, then per body BODY.qw..qz, BODY.wx..wz (space
+// frame), BODY.x..z. Multipliers are not written.
+std::string grid_csv_text(const BodyGrid& g, const std::string& note);
+
+// Largest rotation angle (rad) between the two grids' body orientations, over
+// the grid points and bodies both have; NaN when they share none.
+double max_body_angle(const BodyGrid& a, const BodyGrid& b);
 
 }  // namespace rigidae
