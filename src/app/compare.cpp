@@ -257,7 +257,7 @@ CompareReport compare_scene(const Scene& scene, const CompareOptions& opt,
     row.accuracy = measure_run_accuracy(s, dir, ref, row.outcome.run.status == RunStatus::Success);
     row.verdict = accuracy_verdict(s, row.outcome, opt.error_estimate, "compare without --no-error-estimate");
     if (row.outcome.run.status == RunStatus::Success) add_error_estimate_to_summary(dir / "summary.json", row.verdict);
-    row.outcome.warnings.insert(row.outcome.warnings.end(), row.verdict.warnings.begin(), row.verdict.warnings.end());
+    apply_verdict(row.outcome, row.verdict);
     drop_steps(dir);
     row.error_final_rad = row.accuracy.orientation_rad.final;
     row.error_max_rad = row.accuracy.orientation_rad.max;

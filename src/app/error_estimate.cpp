@@ -54,6 +54,18 @@ nlohmann::json error_json(const OrientationError& e) {
           {"t_final", number_or_null(e.t_final)}};
 }
 
+// The system's size L that position differences are divided by: the
+// mechanism's size (app/multibody_accuracy_check.hpp), and at least each
+// pivoted body's lever from its pivot (a top's, or a pendulum's on a pivot,
+// which the anchors alone would put at the 1 mm floor).
+double system_size(const Scene& scene) {
+  const Scene system = as_system(scene);
+  double L = mechanism_size(*system.multibody);
+  for (const BodySpec& b : system.multibody->bodies)
+    if (b.pivot_W) L = std::max(L, (b.x0_W - *b.pivot_W).norm());
+  return L;
+}
+
 // The companion's grid against the run's, body by body: orientation angle
 // and, where the files record positions (a mechanism's), the centre-of-mass
 // distance over the system's size L, the worst body per point.
@@ -64,7 +76,7 @@ void compare_bodies(const Scene& scene, const BodyGrid& run, const BodyGrid& com
     throw InputError(fmt::format("the run has {} output points, the companion {}", run.t.size(), companion.t.size()));
   e.orientation = compare_orientations(run, companion);
   if (!run.has_positions() || !companion.has_positions()) return;
-  e.length_scale_m = mechanism_size(*as_system(scene).multibody);
+  e.length_scale_m = system_size(scene);
   e.position_rel_max = 0.0;
   for (std::size_t i = 0; i < run.t.size(); ++i) {
     double x = 0.0;
@@ -97,6 +109,7 @@ std::pair<double, double> tight_tolerances(const SolverSettings& run) {
 
 void judge(ErrorEstimate& e, const Scene& scene) {
   e.tolerance = std::max(scene.solver.rtol, scene.solver.atol);
+  e.length_scale_m = system_size(scene);
   e.limit = kVerdictFactor * e.tolerance;
   e.warnings.clear();
   e.branch_disagreement = false;
@@ -110,7 +123,8 @@ void judge(ErrorEstimate& e, const Scene& scene) {
   // run (either may have switched branch: on problems/singular_linkage.toml
   // runs within 1e-5 rad of the closed form had companions 1.7-2.6 rad away),
   // so the difference is reported as what it is, not as the run's error.
-  const bool after_singular_pose = e.source == EstimateSource::Companion && e.singular_pose_passed;
+  const bool after_singular_pose =
+      e.source == EstimateSource::Companion && e.singular_pose_passed && e.arbiter != "companion";
   auto warn = [&](const char* quantity, double value, const std::string& what) {
     if (!(value > e.limit) && std::isfinite(value)) return;
     e.warnings.push_back({quantity, value, e.limit, kVerdictFactor, e.tolerance,
@@ -130,17 +144,80 @@ void judge(ErrorEstimate& e, const Scene& scene) {
                      e.length_scale_m));
     const bool apart = e.position_rel_max > 1.0;
     e.branch_disagreement = apart || (after_singular_pose && !e.warnings.empty());
-    if (apart && !e.warnings.empty())
+    // An arbiter that agreed with the companion is said below, for every scene.
+    if (e.arbiter != "companion" && apart && !e.warnings.empty())
       e.warnings.back().message += fmt::format(
           "; the run and its companion differ by more than the mechanism's size: one of them changed assembly "
           "branch at a singular pose (or the motion is chaotic), and which one is right is not known");
-    else if (e.branch_disagreement)
+    else if (e.arbiter != "companion" && e.branch_disagreement)
       for (AccuracyWarning& w : e.warnings)
         w.message += "; the run or its companion passed a singular pose (singular_pose), where either may have "
                      "changed assembly branch: the difference may be the companion's and which one is right is "
                      "not known (compare with a closed form or the mechanism's known branch)";
   }
+  if (e.arbiter == "companion")
+    for (AccuracyWarning& w : e.warnings)
+      w.message += fmt::format(
+          "; the run or its companion passed a singular pose, and a third run ({} at the companion's tolerances) "
+          "agrees with the companion, not with the run: the run most likely changed assembly branch there",
+          e.arbiter_combination);
 }
+
+void apply_verdict(SolveOutcome& run, const ErrorEstimate& e) {
+  run.warnings.insert(run.warnings.end(), e.warnings.begin(), e.warnings.end());
+}
+
+namespace {
+
+bool within(const ErrorEstimate& d, double limit) {
+  return d.orientation.max <= limit && !(d.position_rel_max > limit);
+}
+
+// The arbiter after a singular pose (error_estimate.hpp, "Branch check"):
+// `tight` is the companion's scene, `companion_dir` its folder.
+void arbitrate(const Scene& scene, const SolveOutcome& run, const Scene& tight, ErrorEstimate& e) {
+  Scene arbiter = tight;
+  const bool companion_linear = tight.formulation.coordinates == Coordinates::Linear &&
+                                tight.formulation.equations == Equations::Euler && tight.formulation.scheme == "ggl" &&
+                                e.companion_combination.empty();
+  arbiter.formulation.coordinates = companion_linear ? Coordinates::Quaternion : Coordinates::Linear;
+  arbiter.formulation.equations = Equations::Euler;
+  arbiter.formulation.scheme = "ggl";
+  arbiter.solver.integrator = "ida";
+  e.arbiter_combination = fmt::format("{}/euler/ggl", companion_linear ? "quaternion" : "linear");
+  const std::filesystem::path dir = run.out_dir / "error_estimate_arbiter";
+  SolveOutcome a;
+  try {
+    a = solve_scene(arbiter, dir);
+  } catch (const std::runtime_error& x) {
+    e.arbiter = fmt::format("failed: {}", x.what());
+    return;
+  }
+  e.companion_wall_s += a.wall_seconds;
+  if (a.run.status != RunStatus::Success) {
+    e.arbiter = "failed: " + status_text(a);
+    return;
+  }
+  ErrorEstimate to_run, to_companion;
+  try {
+    const BodyGrid arbiter_grid = read_trajectory_csv(dir / "trajectory.csv");
+    compare_bodies(scene, read_trajectory_csv(run.out_dir / "trajectory.csv"), arbiter_grid, to_run);
+    compare_bodies(scene, read_trajectory_csv(e.tight_dir / "trajectory.csv"), arbiter_grid, to_companion);
+  } catch (const std::runtime_error& x) {
+    e.arbiter = fmt::format("failed: {}", x.what());
+    return;
+  }
+  if (within(to_run, e.limit)) {
+    e.arbiter = "run";
+    e.orientation = to_run.orientation;
+    e.position_rel_max = to_run.position_rel_max;
+    e.position_rel_final = to_run.position_rel_final;
+  } else {
+    e.arbiter = within(to_companion, e.limit) ? "companion" : "neither";
+  }
+}
+
+}  // namespace
 
 ErrorEstimate estimate_global_error(const Scene& scene, const SolveOutcome& run, const CompanionLimits& limits) {
   ErrorEstimate e;
@@ -217,6 +294,10 @@ ErrorEstimate estimate_global_error(const Scene& scene, const SolveOutcome& run,
   }
   e.source = EstimateSource::Companion;
   judge(e, scene);
+  if (e.singular_pose_passed && !e.warnings.empty() && !g_interrupt_requested.load()) {
+    arbitrate(scene, run, tight, e);
+    judge(e, scene);
+  }
   return e;
 }
 
@@ -282,6 +363,9 @@ nlohmann::json error_estimate_json(const ErrorEstimate& e) {
       {"limit_rule", "300 x max(rtol, atol)"},
       {"branch_disagreement", e.branch_disagreement},
       {"singular_pose_passed", e.singular_pose_passed},
+      {"arbiter",
+       e.arbiter.empty() ? nlohmann::json(nullptr)
+                         : nlohmann::json{{"verdict", e.arbiter}, {"combination", e.arbiter_combination}}},
       {"companion",
        {{"rtol", e.rtol},
         {"atol", e.atol},

@@ -87,11 +87,11 @@ ReferenceTrajectory make_reference(const Scene& scene, const std::string& kind, 
   }
   ReferenceTrajectory ref;
   ref.rtol = tight_rtol;
-  const Combination ref_combo{Coordinates::Quaternion, Equations::Euler, "ggl"};
+  const Combination ref_combo{Coordinates::Quaternion, Equations::Euler, "ggl", "ida", ""};
   // The check takes other coordinates with no chart (Euler angles' chart
   // switches would add their own error; a mechanism's Euler-angle bodies
   // still carry the joints' rows).
-  const Combination check_combo{Coordinates::Linear, Equations::Euler, "ggl"};
+  const Combination check_combo{Coordinates::Linear, Equations::Euler, "ggl", "ida", ""};
   ref.combination = ref_combo.name();
   ref.check_combination = check_combo.name();
   auto tight = [&](const Combination& c) {

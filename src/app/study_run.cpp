@@ -284,7 +284,7 @@ bool run_study(const StudySpec& spec, const std::vector<StudyRun>& runs, const S
       return false;
     }
     if (outcome.run.status == RunStatus::Success) add_error_estimate_to_summary(tmp / "summary.json", verdict);
-    judged.warnings.insert(judged.warnings.end(), verdict.warnings.begin(), verdict.warnings.end());
+    apply_verdict(judged, verdict);
     if (!opt.keep_steps) fs::remove(tmp / "steps.csv", ec);  // summaries and grids always stay
     // run.json marks the run complete: written last, whole or not at all.
     write_file_atomically(tmp / "run.json", run_record(spec, run, judged, timing, acc, *ref, verdict).dump(2) + "\n");

@@ -181,6 +181,68 @@ TEST_CASE("verdict: after a singular pose a disagreeing companion is a branch qu
   CHECK(verdict == 2);
 }
 
+// The same scene in quaternion/euler/index2 at rtol 1e-4: the run stays on
+// the parallelogram branch, its companion at rtol 1e-6 changes branch at a
+// collinear pose, and the arbiter (linear/euler/ggl at rtol 1e-6) sides with
+// the run. The estimate is then the run's difference to the arbiter, which
+// matches the closed form's error, and no verdict warning is given.
+TEST_CASE("verdict: after a singular pose an arbiter that sides with the run makes the estimate") {
+  const fs::path out = rigidae::test::fresh_temp_dir("verdict_arbiter");
+  const auto r = rigidae::test::run_cli("solve " + std::string(RIGIDAE_SOURCE_DIR) +
+                                        "/problems/singular_linkage.toml --coordinates quaternion --equations euler "
+                                        "--scheme index2 --rtol 1e-4 --atol 1e-4 --error-estimate -q --out " +
+                                        out.string());
+  REQUIRE(r.exit_code == 0);
+  const BodyGrid g = read_trajectory_csv(out / "trajectory.csv");
+  REQUIRE(g.bodies == std::vector<std::string>{"crank", "coupler", "rocker"});
+  double off = 0.0;
+  for (std::size_t i = 0; i < g.t.size(); ++i) {
+    const double th = std::numbers::pi / 3.0 + 2.0 * std::numbers::pi * g.t[i];
+    const Vec4 turned(std::cos(-th / 2.0), 0.0, std::sin(-th / 2.0), 0.0), still(1.0, 0.0, 0.0, 0.0);
+    off = std::max({off, so3::quaternion_distance(g.q_WB[i][0], turned), so3::quaternion_distance(g.q_WB[i][1], still),
+                    so3::quaternion_distance(g.q_WB[i][2], turned)});
+  }
+  CHECK(off < 100 * 1e-4);  // the run is on the right branch
+
+  const nlohmann::json summary = read_json(out / "summary.json");
+  const nlohmann::json& e = summary["error_estimate"];
+  CAPTURE(e.dump());
+  CHECK(e["singular_pose_passed"].get<bool>());
+  REQUIRE(e["arbiter"].is_object());
+  CHECK(e["arbiter"]["verdict"] == "run");
+  CHECK(e["arbiter"]["combination"] == "linear/euler/ggl");
+  CHECK(fs::exists(out / "error_estimate_arbiter" / "trajectory.csv"));
+  // The estimate is the difference to the arbiter: the run's error, within 20 %.
+  CHECK(e["orientation"]["max_orientation_rad"].get<double>() == doctest::Approx(off).epsilon(0.2));
+  CHECK_FALSE(e["branch_disagreement"].get<bool>());
+  for (const auto& w : summary["warnings"]) CHECK(w["quantity"] == "singular_pose");  // no verdict warning
+}
+
+// The verdict's own logic: an arbiter that agrees with the companion after a
+// singular pose says the run switched branch; the run's singular_pose
+// warning stays beside the verdict's.
+TEST_CASE("verdict: an arbiter that agrees with the companion says the run changed branch") {
+  const Scene s = problem("free_body", 1.0, 1e-8);
+  ErrorEstimate e;
+  e.source = EstimateSource::Companion;
+  e.singular_pose_passed = true;
+  e.orientation.max = 1.0;  // past the limit 300 x 1e-8
+  e.arbiter = "companion";
+  e.arbiter_combination = "linear/euler/ggl";
+  judge(e, s);
+  REQUIRE(e.warnings.size() == 1);
+  CHECK(e.warnings[0].message.find("agrees with the companion") != std::string::npos);
+  CHECK(e.warnings[0].message.find("are far less accurate") != std::string::npos);
+  SolveOutcome o;
+  AccuracyWarning pose;
+  pose.quantity = "singular_pose";
+  o.warnings = {pose};
+  apply_verdict(o, e);
+  REQUIRE(o.warnings.size() == 2);
+  CHECK(o.warnings[0].quantity == "singular_pose");
+  CHECK(o.warnings[1].quantity == "orientation_error");
+}
+
 TEST_CASE("verdict: where a closed form exists, its error decides") {
   for (const double rtol : {1e-4, 1e-10}) {
     CAPTURE(rtol);

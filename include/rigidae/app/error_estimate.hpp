@@ -30,8 +30,19 @@
 //
 // Branch check: a run and its companion whose centres of mass differ by more
 // than L are not on the same motion: one of them changed assembly branch at a
-// singular pose (or the motion is chaotic); the warning says so, since the
-// estimate cannot tell which of the two is right.
+// singular pose (or the motion is chaotic). After a singular pose either run
+// may have switched, so a difference past the limit there calls a third run,
+// the arbiter: the same scene at the companion's tolerances in other
+// coordinates (linear/euler/ggl on IDA, or quaternion/euler/ggl when the
+// companion already is that). Within the limit of the run, it sides with the
+// run: the estimate is the run's difference to the arbiter (the companion was
+// the one that switched); within the limit of the companion, two tighter runs
+// agree against the run, whose warning then says so; else which run is right
+// is not known and the warning says that. The run's own singular_pose
+// warning stays whatever the verdict: a run and its companion can change
+// branch together (measured on problems/singular_linkage.toml:
+// linear/lagrange/index2 at rtol 1e-5 ends 1.7 rad off the closed form, its
+// companion 1.5e-3 rad from it).
 //
 // When the run's own combination fails at the tight tolerances (index3 at
 // rtol 1e-11 can fail its first Newton iterations), the same motion in
@@ -78,7 +89,7 @@ struct ErrorEstimate {
   // Multibody and companion only: max over the grid of the worst body's |x - x_c| / L, and at the end.
   double position_rel_max = std::numeric_limits<double>::quiet_NaN();
   double position_rel_final = std::numeric_limits<double>::quiet_NaN();
-  double length_scale_m = std::numeric_limits<double>::quiet_NaN();  // L, multibody
+  double length_scale_m = std::numeric_limits<double>::quiet_NaN();  // L (system_size in error_estimate.cpp), m
 
   // The companion run (source Companion, or a companion that failed).
   double rtol = 0.0, atol = 0.0;
@@ -97,6 +108,10 @@ struct ErrorEstimate {
   // estimate of the run.
   bool branch_disagreement = false;
   bool singular_pose_passed = false;  // the run or its companion reported a singular_pose warning
+  // The arbiter after a singular pose (see above): "" (none run), "run" (it
+  // sides with the run), "companion" (with the companion), "neither", or
+  // "failed: ..." (it did not finish: the companion's estimate stands).
+  std::string arbiter, arbiter_combination;
   std::vector<AccuracyWarning> warnings;  // the verdict's, past the limit
 
   // A companion's orientation estimate beside the closed form's error that
@@ -130,6 +145,9 @@ ErrorEstimate estimate_global_error(const Scene& scene, const SolveOutcome& run,
 // beside (companion_orientation); the closed form decides.
 ErrorEstimate accuracy_verdict(const Scene& scene, const SolveOutcome& run, bool companion,
                                const std::string& how_to_enable);
+
+// The run's warnings with the verdict's appended (compare, study, solve).
+void apply_verdict(SolveOutcome& run, const ErrorEstimate& e);
 
 // Fills e.tolerance, e.limit, e.branch_disagreement and e.warnings from e's measures.
 void judge(ErrorEstimate& e, const Scene& scene);
