@@ -237,6 +237,7 @@ TEST_CASE("urdf: a TOML scene with [urdf]: joint names checked at their position
   CHECK(ok.multibody->bodies.size() == 6);  // the tool merged into link6
   CHECK(ok.multibody->joints.size() == 6);
   CHECK(ok.time.end == 1.0);
+  CHECK(ok.schema_version == 2);  // as the [urdf] scene file says
   const std::string text = "schema_version = 2\n[urdf]\nfile = \"arm6.urdf\"\npositions = { elbw = 0.1 }\n"
                            "[time]\nend = 1.0\n";
   const std::string e = error_of([&] { io::parse_scene(text, dir + "bad_arm.toml"); });
@@ -245,6 +246,7 @@ TEST_CASE("urdf: a TOML scene with [urdf]: joint names checked at their position
   // The .urdf file alone is a scene with default run settings.
   const Scene direct = io::load_scene(dir + "arm6.urdf");
   CHECK(direct.multibody->bodies.size() == 6);
+  CHECK(direct.schema_version == 2);  // no version of its own: read as a scene of bodies and joints
   CHECK(direct.name == "arm6");
 }
 
