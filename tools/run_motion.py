@@ -4,10 +4,10 @@ animate_run.py): the scene's geometry that `rigidae view|vtk|animate` writes
 (JSON, app/scene_geometry.cpp) and the poses in a run's trajectory.csv.
 
 Frames: a body's pose is (x, R): x the origin of its body frame in space (a
-mechanism's body: its centre of mass, columns BODY.x..z; a single body: the
-body origin, the fixed point of a top, kept at 0; a free single body is drawn
-with its centre of mass at 0), R = R_WB from the unit quaternion
-BODY.qw..qz (scalar first). A shape's point x_V is at
+body held at a pivot: the pivot, the geometry's `pivot`, fixed; a single body
+is one, pivoted at its fixed point or, when free, at its centre of mass; any
+other body: its centre of mass, columns BODY.x..z), R = R_WB from the unit
+quaternion BODY.qw..qz (scalar first; a single body's columns are qw..qz). A shape's point x_V is at
 x + R (position + R_BV x_V) in space, R_BV from the shape's quaternion.
 """
 import csv
@@ -83,9 +83,12 @@ class Poses:
             elif any(i is None for i in q):
                 raise SystemExit(f"trajectory.csv has no columns {p}qw..{p}qz: record the body "
                                  "([output] bodies) to draw it")
+            pivot = [float(v) for v in b["pivot"]] if "pivot" in b else None  # the origin, fixed in space
             x = [col.get(p + k) for k in ("x", "y", "z")]
-            self.bodies.append((q, x if all(i is not None for i in x) else None, b["center_of_mass"]))
-        self.free_single = geometry.get("support") == "free"
+            if pivot is None and any(i is None for i in x):
+                raise SystemExit(f"trajectory.csv has no columns {p}x..{p}z: record the body "
+                                 "([output] bodies) to draw it")
+            self.bodies.append((q, x, pivot))
         self.joints = []
         for j in geometry["joints"]:
             r = j.get("reaction")
@@ -97,15 +100,9 @@ class Poses:
 
     def pose(self, row, k):
         """(x, R) of body k."""
-        q_cols, x_cols, com = self.bodies[k]
+        q_cols, x_cols, pivot = self.bodies[k]
         R = quaternion_matrix([row[i] for i in q_cols] if q_cols is not None else [1.0, 0.0, 0.0, 0.0])
-        if x_cols is not None:
-            x = [row[i] for i in x_cols]
-        elif self.free_single:
-            x = [-v for v in apply(R, com)]  # the centre of mass held at 0
-        else:
-            x = [0.0, 0.0, 0.0]
-        return x, R
+        return (list(pivot) if pivot is not None else [row[i] for i in x_cols]), R
 
     def force(self, row, j):
         """The reaction force of joint j (space frame, N), or None when not recorded."""

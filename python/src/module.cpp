@@ -33,10 +33,12 @@
 #include "rigidae/core/error.hpp"
 #include "rigidae/exact/exact_solution.hpp"
 #include "rigidae/io/scene_loader.hpp"
+#include "rigidae/model/one_body_system.hpp"
 #include "rigidae/model/recorded_parts.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
 #include "rigidae/record/error_control.hpp"
 #include "rigidae/record/recorder.hpp"
+#include "rigidae/record/run_columns.hpp"
 #include "rigidae/schemes/scheme.hpp"
 #include "rigidae/record/columns.hpp"
 #include "rigidae/settings/default_integrator.hpp"
@@ -364,7 +366,11 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("t_start", [](const Scene& s) { return s.time.start; })
       .def_property_readonly("t_end", [](const Scene& s) { return s.time.end; })
       .def_property_readonly("output_step", [](const Scene& s) { return s.time.output_step; })
-      .def_property_readonly("is_multibody", [](const Scene& s) { return s.multibody.has_value(); })
+      // Whether its runs record the mechanism columns (solve gives a
+      // MultibodyRun): the column-set rule of record/run_columns.hpp on the
+      // system the scene runs as, not the scene's kind.
+      .def_property_readonly("is_multibody",
+                             [](const Scene& s) { return !records_one_body_columns(*as_system(s).multibody); })
       .def_property_readonly("run_name", [](const Scene& s) { return default_run_name(s); })
       .def("_with_options", &with_options, py::arg("command"), py::arg("args"));
 

@@ -1,10 +1,14 @@
 // The geometry of a scene for the tools that draw a run (app/scene_geometry.hpp).
 //
-// Frames: a schema-2 body's frame has its origin at the centre of mass (its
-// trajectory.csv columns BODY.x..z, BODY.qw..qz place it); a schema-1 body's
-// at the body origin, the fixed point of a top (columns qw..qz; the origin
-// stays at 0). A shape's pose in its body frame is (position_B, R_BV); a
-// point of the shape is x_W = x_body + R_WB (position_B + R_BV x_V).
+// One path for every scene: the bodies and joints of the system it runs as
+// (as_system). Frames: a body held at a pivot is drawn in a frame whose
+// origin is the pivot (fixed in space, the body's `pivot`: a one-body
+// scene's body origin, the fixed point of a top, or a free body's centre of
+// mass), any other body in a frame whose origin is its centre of mass (its
+// trajectory.csv columns BODY.x..z place it); either turns by its columns
+// qw..qz (prefixed by the body's column prefix). A shape's pose in its body
+// frame is (position_B, R_BV); a point of the shape is
+// x_W = x_body + R_WB (position_B + R_BV x_V).
 // The default shape of a body is its inertia ellipsoid (the uniform solid
 // ellipsoid with the body's mass and principal moments), centred at the
 // centre of mass with its axes along the principal axes.
@@ -19,6 +23,8 @@
 #include <nlohmann/json.hpp>
 
 #include "rigidae/core/error.hpp"
+#include "rigidae/model/one_body_system.hpp"
+#include "rigidae/record/run_columns.hpp"
 
 namespace rigidae {
 
@@ -93,74 +99,96 @@ Vec3 inertia_ellipsoid_semi_axes(double mass, const Vec3& J, double min_fraction
 }
 
 std::string scene_geometry_json(const Scene& scene) {
+  // The system the scene runs as (a one-body scene: one body pivoted at the
+  // fixed point, or at its centre of mass when free), body by body, with
+  // the column prefix its records give each body (record/run_columns.hpp).
+  const Scene system = as_system(scene);
+  const MultibodySpec& mb = *system.multibody;
   json g{{"scene", scene.name}, {"source", scene.source}};
+  if (scene.schema_version > 0) g["schema_version"] = scene.schema_version;
+  // Each body's drawing frame: its body axes, origin at its pivot when it is
+  // held at one (fixed in space: the body's `pivot`), else at its centre of
+  // mass (placed by the columns x..z). `lever[i]` is that origin -> centre
+  // of mass (body frame): what is added to a point given from the centre of
+  // mass. A one-body scene's frame is then its body origin, as written.
+  std::vector<Vec3> lever(mb.bodies.size(), Vec3::Zero());
+  for (std::size_t i = 0; i < mb.bodies.size(); ++i)
+    if (const BodySpec& b = mb.bodies[i]; b.pivot_W)
+      lever[i] = b.com_from_pivot_B.value_or(Vec3(b.R0_WB.transpose() * (b.x0_W - *b.pivot_W)));
+  const auto in_frame = [&](int body, const Vec3& p) -> Vec3 {
+    return body == kGround ? p : Vec3(p + lever[static_cast<std::size_t>(body)]);
+  };
+
   json bodies = json::array(), joints = json::array();
   double reach = 0.0, r = 0.0;
-  if (scene.multibody) {
-    g["schema_version"] = 2;
-    const MultibodySpec& mb = *scene.multibody;
-    for (const BodySpec& b : mb.bodies) {
-      bodies.push_back(body_json(b.name, b.name + ".", b.mass, b.inertia_com, Vec3::Zero(), b.visuals, &r));
-      reach = std::max(reach, r);
-    }
-    for (const JointSpec& j : mb.joints) {
-      // The reaction in trajectory.csv acts on b at its point (on a when b is
-      // the ground): the marker and the arrow go there.
-      const bool on_b = j.body_b != kGround;
-      json joint{{"name", j.name},
-                 {"type", std::string(j.type->name)},
-                 {"body", on_b ? j.body_b : j.body_a},
-                 {"point", vec(on_b ? j.point_b : j.point_a)},
-                 {"other", on_b ? j.body_a : j.body_b},
-                 {"other_point", vec(on_b ? j.point_a : j.point_b)},
-                 {"reaction", j.name + "."}};
-      joints.push_back(joint);
-      reach = std::max({reach, j.point_a.norm(), j.point_b.norm()});
-    }
-    // The scene's size: its bodies' starting spread and their shapes.
-    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-    for (const BodySpec& b : mb.bodies) lo = lo.cwiseMin(b.x0_W), hi = hi.cwiseMax(b.x0_W);
-    // Joint points on the ground too (a particle's rod hangs from one).
-    for (const JointSpec& j : mb.joints)
-      for (const auto& [body, point] : {std::pair{j.body_a, j.point_a}, std::pair{j.body_b, j.point_b}})
-        if (body == kGround) lo = lo.cwiseMin(point), hi = hi.cwiseMax(point);
-    g["extent"] = (hi - lo).norm() + 2.0 * reach;
-    // A particle has no orientation (no BODY.qw columns) and no inertia
-    // ellipsoid: drawn as a small sphere (2 % of the scene's size) unless the
-    // scene gives its visual.
-    const double extent = g["extent"].get<double>() > 0.0 ? g["extent"].get<double>() : 1.0;
-    for (std::size_t i = 0; i < mb.bodies.size(); ++i) {
-      if (!mb.bodies[i].particle) continue;
-      json& b = bodies[i];
-      b["particle"] = true;
-      if (!mb.bodies[i].visuals.empty()) continue;
-      b["inertia_ellipsoid"] = false;
-      b["visuals"] = json::array({json{{"shape", "sphere"},
-                                       {"radius", 0.02 * extent},
-                                       {"position", vec(Vec3::Zero())},
-                                       {"quaternion", json::array({1.0, 0.0, 0.0, 0.0})}}});
-    }
-  } else {
-    g["schema_version"] = 1;
-    g["support"] = scene.support == Support::FixedPoint ? "fixed_point" : "free";
-    const RigidBodySpec& b = scene.body;
-    bodies.push_back(body_json("body", "", b.mass, b.inertia_com, b.com_B, b.visuals, &r));
-    if (scene.support == Support::FixedPoint)
-      joints.push_back(json{{"name", "fixed_point"},
+  for (std::size_t i = 0; i < mb.bodies.size(); ++i) {
+    const BodySpec& b = mb.bodies[i];
+    std::vector<VisualShape> visuals = b.visuals;
+    for (VisualShape& v : visuals) v.position_B += lever[i];
+    bodies.push_back(body_json(b.name, body_column_prefix(mb, i), b.mass, b.inertia_com, lever[i], visuals, &r));
+    if (b.pivot_W) bodies.back()["pivot"] = vec(*b.pivot_W);
+    reach = std::max(reach, r);
+  }
+  for (const JointSpec& j : mb.joints) {
+    // The reaction in trajectory.csv acts on b at its point (on a when b is
+    // the ground): the marker and the arrow go there.
+    const bool on_b = j.body_b != kGround;
+    const Vec3 pa = in_frame(j.body_a, j.point_a), pb = in_frame(j.body_b, j.point_b);
+    joints.push_back(json{{"name", j.name},
+                          {"type", std::string(j.type->name)},
+                          {"body", on_b ? j.body_b : j.body_a},
+                          {"point", vec(on_b ? pb : pa)},
+                          {"other", on_b ? j.body_a : j.body_b},
+                          {"other_point", vec(on_b ? pa : pb)},
+                          {"reaction", j.name + "."}});
+    reach = std::max({reach, pa.norm(), pb.norm()});
+  }
+  // A pivot holds its body like a spherical joint to the ground at the
+  // frame's origin; its support force is the body's pivot_force columns.
+  for (std::size_t i = 0; i < mb.bodies.size(); ++i)
+    if (const BodySpec& b = mb.bodies[i]; b.pivot_W)
+      joints.push_back(json{{"name", b.name + ".pivot"},
                             {"type", "spherical"},
-                            {"body", 0},
+                            {"body", static_cast<int>(i)},
                             {"point", vec(Vec3::Zero())},
                             {"other", kGround},
-                            {"other_point", vec(Vec3::Zero())},
-                            {"reaction", nullptr}});
-    g["extent"] = 2.0 * std::max(r, b.com_B.norm());
+                            {"other_point", vec(*b.pivot_W)},
+                            {"reaction", body_column_prefix(mb, i) + "pivot_"}});
+  // The scene's size: the spread of the bodies' frame origins (the pivots,
+  // the other bodies' centres of mass) and of the joints' ground points at
+  // the start, plus twice the farthest a shape or joint point reaches from
+  // its frame's origin (a body turns about it).
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  for (std::size_t i = 0; i < mb.bodies.size(); ++i) {
+    const BodySpec& b = mb.bodies[i];
+    const Vec3 origin = b.x0_W - b.R0_WB * lever[i];
+    lo = lo.cwiseMin(origin), hi = hi.cwiseMax(origin);
   }
-  // Markers ([[markers]]): a point in a body's frame from its centre of
-  // mass, as the joints' points (drawn with their paths).
+  // Joint points on the ground too (a particle's rod hangs from one).
+  for (const JointSpec& j : mb.joints)
+    for (const auto& [body, point] : {std::pair{j.body_a, j.point_a}, std::pair{j.body_b, j.point_b}})
+      if (body == kGround) lo = lo.cwiseMin(point), hi = hi.cwiseMax(point);
+  g["extent"] = (hi - lo).norm() + 2.0 * reach;
+  // A particle has no orientation (no BODY.qw columns) and no inertia
+  // ellipsoid: drawn as a small sphere (2 % of the scene's size) unless the
+  // scene gives its visual.
+  const double extent = g["extent"].get<double>() > 0.0 ? g["extent"].get<double>() : 1.0;
+  for (std::size_t i = 0; i < mb.bodies.size(); ++i) {
+    if (!mb.bodies[i].particle) continue;
+    json& b = bodies[i];
+    b["particle"] = true;
+    if (!mb.bodies[i].visuals.empty()) continue;
+    b["inertia_ellipsoid"] = false;
+    b["visuals"] = json::array({json{{"shape", "sphere"},
+                                     {"radius", 0.02 * extent},
+                                     {"position", vec(Vec3::Zero())},
+                                     {"quaternion", json::array({1.0, 0.0, 0.0, 0.0})}}});
+  }
+  // Markers ([[markers]]): a point fixed in a body, in its drawing frame as
+  // the joints' points (drawn with their paths).
   json markers = json::array();
-  if (scene.multibody)
-    for (const MarkerSpec& m : scene.multibody->markers)
-      markers.push_back(json{{"name", m.name}, {"body", m.body}, {"point", vec(m.point)}});
+  for (const MarkerSpec& m : mb.markers)
+    markers.push_back(json{{"name", m.name}, {"body", m.body}, {"point", vec(in_frame(m.body, m.point))}});
   g["bodies"] = bodies;
   g["joints"] = joints;
   g["markers"] = markers;

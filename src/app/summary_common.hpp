@@ -19,11 +19,10 @@
 namespace rigidae {
 
 inline nlohmann::json common_summary_json(const Scene& scene, const SolveOutcome& o) {
-  return {
+  nlohmann::json j = {
       {"units", "SI: s, m, rad, rad/s, N, N m, J, kg m^2/s; quaternions scalar first, R_WB body to space"},
       {"scene", scene.name},
       {"source", scene.source},
-      {"schema_version", scene.multibody ? 2 : 1},  // of the scene file
       {"versions",
        {{"rigidae", RIGIDAE_VERSION},
         {"sundials", sundials_version()},
@@ -55,6 +54,10 @@ inline nlohmann::json common_summary_json(const Scene& scene, const SolveOutcome
       {"multipliers_error_controlled", o.multipliers_error.controlled},
       {"multipliers_error_note", o.multipliers_error.note},
   };
+  // The scene file's schema_version, as its loader recorded it; absent for a
+  // scene built in code, which came from no file.
+  if (scene.schema_version > 0) j["schema_version"] = scene.schema_version;
+  return j;
 }
 
 }  // namespace rigidae

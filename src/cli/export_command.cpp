@@ -1,7 +1,9 @@
-// `rigidae export --mjcf SCENE -o model.xml`: a mechanism scene (schema 2 or
-// a URDF) as an MJCF model for MuJoCo (src/io/mjcf_writer.cpp has the rules).
+// `rigidae export --mjcf SCENE -o model.xml`: a scene (one body, a mechanism
+// or a URDF) as an MJCF model for MuJoCo (src/io/mjcf_writer.cpp has the
+// rules), written as the system it runs as (as_system).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -15,17 +17,19 @@
 #include "rigidae/io/checked_file.hpp"
 #include "rigidae/io/mjcf_export.hpp"
 #include "rigidae/io/scene_loader.hpp"
+#include "rigidae/model/one_body_system.hpp"
 
 namespace rigidae::cli {
 namespace {
 
 constexpr const char* kHelp = R"(Usage: rigidae export --mjcf SCENE -o MODEL.xml [options]
 
-Writes a mechanism scene (schema_version = 2, a [urdf] scene or a .urdf file)
-as an MJCF model for MuJoCo: nested bodies (frame at the centre of mass, the
-scene's body axes, full inertia), hinge / slide / ball / free joints (a
-universal joint as two hinges, a cylindrical one as slide + hinge, a fixed one
-as a body without joints), gravity, contacts off, torsional springs and
+Writes a scene (schema_version = 1 or 2, a [urdf] scene or a .urdf file) as an
+MJCF model for MuJoCo: nested bodies (frame at the centre of mass, the scene's
+body axes, full inertia), hinge / slide / ball / free joints (a universal
+joint as two hinges, a cylindrical one as slide + hinge, a fixed one as a body
+without joints, a pivot as a ball joint; a one-body scene is its body on a
+ball joint at the fixed point, or at its centre of mass when free), gravity, contacts off, torsional springs and
 dampers, limits as data (limited="false"), and the scene's initial state as
 keyframe 0 ("initial"; qpos = 0 is rigidae's joint zero). Closed loops, springs
 and loads are refused. Trees deeper than --bodies-per-file continue in
@@ -98,16 +102,18 @@ int export_command(const std::vector<std::string>& args) {
   if (!mjcf) throw InputError("export needs the format: --mjcf (MuJoCo's MJCF, the one format written)");
   if (scene_path.empty()) throw InputError("export needs a scene: rigidae export --mjcf SCENE -o MODEL.xml");
   if (output.empty()) throw InputError("export needs -o MODEL.xml (the model file to write)");
-  const Scene scene = io::load_scene(scene_path);
+  const Scene system = as_system(io::load_scene(scene_path));
   const std::filesystem::path out(output);
-  const auto files = io::mjcf_files(scene, options, out.filename().string());
+  const auto files = io::mjcf_files(system, options, out.filename().string());
   const std::filesystem::path dir = out.parent_path();
   // A folder that cannot be written is bad input (exit 2), as for every command.
   create_output_folder(dir.empty() ? std::filesystem::path(".") : dir, /*disposable=*/false);
   for (const auto& [name, text] : files) write_file_atomically(dir / name, text);
-  fmt::print(stderr, "rigidae export: wrote {}{} ({} bodies, {} joints)\n", output,
+  const MultibodySpec& spec = *system.multibody;
+  const auto pivots = std::count_if(spec.bodies.begin(), spec.bodies.end(), [](const BodySpec& b) { return b.pivot_W.has_value(); });
+  fmt::print(stderr, "rigidae export: wrote {}{} ({} bodies, {} joints{})\n", output,
              files.size() > 1 ? fmt::format(" and {} part files beside it", files.size() - 1) : "",
-             scene.multibody->bodies.size(), scene.multibody->joints.size());
+             spec.bodies.size(), spec.joints.size(), pivots > 0 ? fmt::format(", {} on a pivot", pivots) : "");
   return 0;
 }
 

@@ -1,4 +1,5 @@
-// A mechanism scene as an MJCF model (rigidae/io/mjcf_export.hpp).
+// A scene as an MJCF model (rigidae/io/mjcf_export.hpp): the system it runs
+// as (as_system), so a one-body scene is its one body held at a pivot.
 //
 // MJCF bodies nest: each body is placed in its parent's frame and carries the
 // joints that move it relative to that parent, so the joints must form a tree.
@@ -6,7 +7,12 @@
 // order, hang from the body they were reached from; a joint between two
 // bodies already reached closes a loop and is refused (MJCF would need an
 // equality constraint and a different choice of tree). Bodies not connected
-// to the ground hang from a free joint (<freejoint>) at the top level.
+// to the ground hang from a free joint (<freejoint>) at the top level. A body
+// held at a pivot (BodySpec::pivot_W: a one-body scene's top at its fixed
+// point, a free body at its centre of mass, or a schema-2 body with `pivot`)
+// hangs from the ground by a ball joint NAME_pivot at the pivot, reached
+// before the ground's joints (a joint that then reaches it again closes a
+// loop).
 //
 // Frames: an MJCF body's frame is the rigidae body's frame (origin at the
 // centre of mass, the scene's body axes); <inertial pos="0 0 0" quat
@@ -28,7 +34,8 @@
 // The initial state is the keyframe "initial" (mj_resetDataKeyframe(m, d, 0)):
 //   hinge qpos = the angle, qvel = (w_b - w_a) . z_a;
 //   slide qpos = (p_b - p_a) . z_a, qvel = (v(p_b) - v(p_a)) . z_a;
-//   ball  qpos = (1 0 0 0), qvel = R_c^T (w_c - w_p) (child axes);
+//   ball  qpos = (1 0 0 0), qvel = R_c^T (w_c - w_p) (child axes); a pivot's
+//         ball: qvel = omega0_B;
 //   free  qpos = (x, quat), qvel = (v world, w body axes);
 //   universal: the two rates that make (w_c - w_p), least squares.
 //
@@ -36,7 +43,7 @@
 // ="disable">; the geoms are drawings only: contype = conaffinity = 0, no
 // mass), torsional springs and dampers (stiffness, springref, damping),
 // limits as range with limited="false" (data, not enforced, as in rigidae).
-// Refused: one-body scenes, closed loops, springs and loads (MJCF has no
+// Refused: closed loops, particles, springs and loads (MJCF has no
 // constant body load, and a two-point spring is a tendon this writer does not
 // write).
 #include <fmt/format.h>
@@ -51,6 +58,7 @@
 
 #include "rigidae/core/error.hpp"
 #include "rigidae/io/mjcf_export.hpp"
+#include "rigidae/model/one_body_system.hpp"
 #include "rigidae/so3/rotation.hpp"
 
 namespace rigidae::io {
@@ -75,9 +83,10 @@ Mat3 frame(const Vec3& z, const Vec3& n) {
 }
 
 struct Edge {
-  int joint = -1;     // index into joints, -1 for a free top-level body
+  int joint = -1;     // index into joints, -1 for a top-level body (free, or on its pivot)
   int parent = -1;    // body index, or kGround
   bool child_is_b = true;
+  bool pivot = false;  // a top-level body held at its pivot by a ball joint
 };
 
 class Writer {
@@ -132,11 +141,6 @@ class Writer {
   }
 
   void refuse_what_mjcf_lacks() const {
-    for (const BodySpec& b : mb_.bodies)
-      if (b.pivot_W)
-        refuse(b.where, fmt::format("body \"{}\" is held at a pivot: MJCF export writes joints, not pivots; hold "
-                                    "it by a spherical joint to the ground to export it",
-                                    b.name));
     if (!mb_.springs.empty())
       refuse(mb_.springs.front().where,
              fmt::format("spring \"{}\": MJCF export writes bodies and joints, not two-point springs (a spatial "
@@ -162,9 +166,8 @@ class Writer {
     std::vector<bool> reached(nb + 1, false);
     std::vector<int> via(nb + 1, -1);  // the joint a node was reached through
     std::vector<bool> used(mb_.joints.size(), false);
-    const auto grow = [&](int start_node) {
-      std::vector<int> queue{start_node};
-      reached[start_node] = true;
+    const auto grow = [&](std::vector<int> queue) {
+      for (int node : queue) reached[node] = true;
       for (std::size_t qi = 0; qi < queue.size(); ++qi) {
         const int node = queue[qi];
         const int body = node - 1;
@@ -175,7 +178,8 @@ class Writer {
           used[j] = true;
           if (reached[other + 1])
             refuse(J.where,
-                   fmt::format("joint \"{}\" closes a loop: {} and {} are already joined through other joints. MJCF "
+                   fmt::format("joint \"{}\" closes a loop: {} and {} are already joined through other joints (or a "
+                               "pivot). MJCF "
                                "bodies nest as a tree, so a closed loop needs an equality constraint, which this "
                                "export does not write; export a tree-structured mechanism (cut the loop at one "
                                "joint to see the rest)",
@@ -187,12 +191,21 @@ class Writer {
         }
       }
     };
-    grow(kGroundNode);
+    // The ground, then the bodies on their pivots (hanging from it), then
+    // what the joints reach from these.
+    std::vector<int> from_ground{kGroundNode};
+    for (int b = 0; b < nb; ++b)
+      if (mb_.bodies[b].pivot_W) {
+        edge_[b] = Edge{-1, kGround, true, true};
+        children_[kGroundNode].push_back(b);
+        from_ground.push_back(b + 1);
+      }
+    grow(from_ground);
     for (int b = 0; b < nb; ++b)
       if (!reached[b + 1]) {
         edge_[b] = Edge{-1, kGround, true};
         children_[kGroundNode].push_back(b);
-        grow(b + 1);
+        grow({b + 1});
       }
   }
 
@@ -212,7 +225,14 @@ class Writer {
     Vec3 t_pc;
     std::string joints;
     const int p = e.parent;
-    if (e.joint < 0) {  // free, at the top level
+    if (e.pivot) {  // on its pivot, at the top level: a ball joint there
+      R_pc = B.R0_WB;
+      t_pc = B.x0_W;
+      const Vec3 lever = B.com_from_pivot_B.value_or(Vec3(B.R0_WB.transpose() * (B.x0_W - *B.pivot_W)));
+      joints = fmt::format("{}  <joint name=\"{}_pivot\" type=\"ball\" pos=\"{}\"/>\n", pad, B.name, vec(-lever));
+      qpos_.insert(qpos_.end(), {1.0, 0.0, 0.0, 0.0});
+      for (int k = 0; k < 3; ++k) qvel_.push_back(B.omega0_B[k]);
+    } else if (e.joint < 0) {  // free, at the top level
       R_pc = B.R0_WB;
       t_pc = B.x0_W;
       joints = fmt::format("{}  <freejoint name=\"{}_free\"/>\n", pad, B.name);
@@ -347,12 +367,9 @@ class Writer {
 
 std::vector<std::pair<std::string, std::string>> mjcf_files(const Scene& scene, const MjcfOptions& options,
                                                             const std::string& main_name) {
-  if (!scene.multibody)
-    throw InputError(fmt::format("{}: error: MJCF export writes mechanisms (schema_version = 2 or a URDF); this is a "
-                                 "one-body scene of schema 1",
-                                 scene.source));
   if (options.bodies_per_file < 1) throw InputError("MJCF export: bodies_per_file must be at least 1");
-  return Writer(scene, options, main_name).write();
+  const Scene system = as_system(scene);
+  return Writer(system, options, main_name).write();
 }
 
 }  // namespace rigidae::io

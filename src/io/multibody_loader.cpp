@@ -266,6 +266,7 @@ class MultibodyReader {
                             "1's [{}]: write schema_version = 1 for one body (see docs/scene_format.md)",
                             old));
     r_.check_keys(root_, "", kRootKeys, sections());
+    scene.schema_version = 2;
     read_scene_name(r_, root_, scene);
     MultibodySpec spec;
     if (const toml::node* n = root_.get("start_tolerance"))

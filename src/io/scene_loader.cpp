@@ -647,6 +647,7 @@ Scene read_scene(const TomlReader& r, const toml::table& root) {
                             "docs/scene_format.md)",
                             root.get("bodies") ? "bodies" : "joints"));
   r.check_keys(root, "", kRootKeys, schema().sections);
+  scene.schema_version = kSchemaVersion;
   read_scene_name_impl(r, root, scene);
 
   const InertiaSource inertia = read_body(r, root, scene);

@@ -90,6 +90,7 @@ Scene read_urdf_scene(const TomlReader& r, const toml::table& root) {
   const toml::node& ver = r.required(root, "", "schema_version", "schema_version = 2");
   if (r.integer(ver, "schema_version") != 2)
     r.fail(ver, "a scene with [urdf] is a scene of bodies and joints: write schema_version = 2");
+  scene.schema_version = 2;
   read_scene_name(r, root, scene);
 
   const toml::table& u = r.required_table(root, "", "urdf");
@@ -132,6 +133,9 @@ Scene load_urdf_scene(const std::string& path) {
   const UrdfModel model = parse_urdf(read_text(path, path), path);
   Scene scene;
   scene.source = path;
+  // No version of its own: read as a scene of bodies and joints (schema 2),
+  // which is what its summaries say.
+  scene.schema_version = 2;
   scene.name = std::filesystem::path(path).stem().string();
   if (scene.name.empty() || scene.name.front() == '.') scene.name = "urdf";
   scene.description = model.name.empty() ? std::string("URDF robot") : fmt::format("URDF robot \"{}\"", model.name);

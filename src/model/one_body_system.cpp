@@ -16,6 +16,10 @@ Scene one_body_system(const Scene& s) {
   b.com_from_pivot_B = c;
   b.x0_W = s.R0_WB * c;
   b.v0_W = s.R0_WB * s.omega0_B.cross(c);
+  // The shapes it is drawn with, from the body origin (a top's fixed point)
+  // moved to the centre of mass, the origin of a system's body frame.
+  b.visuals = s.body.visuals;
+  for (VisualShape& v : b.visuals) v.position_B -= s.body.com_B;
   MultibodySpec m;
   m.bodies.push_back(b);
   m.gravity_W = s.gravity_W;

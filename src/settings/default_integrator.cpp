@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rigidae/model/one_body_system.hpp"
 #include "rigidae/solver/integrators.hpp"
 
 namespace rigidae::settings {
@@ -65,8 +66,10 @@ bool explicit_runs(const std::string& scheme) {
 
 ForceRates force_rates(const Scene& scene) {
   ForceRates r;
-  if (!scene.multibody) return r;
-  const MultibodySpec& spec = *scene.multibody;
+  // Read off the system the scene runs as (a one-body scene: one pivoted
+  // body, no springs or joints, hence no rate).
+  const Scene system = as_system(scene);
+  const MultibodySpec& spec = *system.multibody;
   // An element of stiffness k and damping c on inverse inertia w: x'' + c w x' + k w x = 0, eigenvalues
   // (-c w +- sqrt(c^2 w^2 - 4 k w)) / 2. Overdamped (c^2 w >= 4 k), the fast one decays at
   // (c w + sqrt(c^2 w^2 - 4 k w)) / 2 (c w for a damper alone); underdamped, the pair oscillates at

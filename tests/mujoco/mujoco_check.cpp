@@ -1,13 +1,17 @@
 // MuJoCo cross-check of the URDF import and the MJCF export (CTest
-// mujoco_arm6, mujoco_double_pendulum, mujoco_chain_10, mujoco_joint_zoo; built only when
-// Debian's libmujoco-dev is found).
+// mujoco_arm6, mujoco_double_pendulum, mujoco_chain_10, mujoco_joint_zoo,
+// mujoco_heavy_top, mujoco_free_body; built only when Debian's libmujoco-dev
+// is found). A one-body scene (schema 1) is checked as the system it runs as
+// (as_system): its body on a ball joint at the fixed point (a free body: at
+// its centre of mass).
 //
 //   mujoco_check RIGIDAE_CLI SCENE.toml URDF|- [DT]
 //
 // (writes into a fresh folder under $TMPDIR, which CTest sets)
 // 1. `rigidae solve SCENE.toml --rtol 1e-11 --atol 1e-11 --t-end 1` writes
 //    trajectory.csv: every body's quaternion and centre of mass on the
-//    scene's output grid over 1 s.
+//    scene's output grid over 1 s (a body in the one-body columns, qw..qz
+//    without a position: its centre of mass is pivot + R c, c the lever).
 // 2. `rigidae export --mjcf SCENE.toml -o WORK_DIR/arm6.xml`.
 // 3. Two MuJoCo 2.2.2 models, each RK4 with dt = 1e-4, contacts and joint
 //    limits off, stepped 1 s:
@@ -46,6 +50,8 @@
 #include <toml++/toml.h>
 
 #include "rigidae/io/scene_loader.hpp"
+#include "rigidae/model/one_body_system.hpp"
+#include "rigidae/record/run_columns.hpp"
 #include "rigidae/so3/rotation.hpp"
 
 namespace {
@@ -62,11 +68,16 @@ double kDt = 1e-4;  // s; the issue asks for <= 1e-4 (a 4th argument sets anothe
 struct Table {
   std::vector<std::string> header;
   std::vector<std::vector<double>> rows;
-  int column(const std::string& body, const std::string& what) const {
-    for (const char* sep : {".", "_", ":"})
-      for (std::size_t i = 0; i < header.size(); ++i)
-        if (header[i] == body + std::string(sep) + what) return static_cast<int>(i);
-    throw std::runtime_error("trajectory.csv has no column for " + body + " " + what);
+  // The column `name` (a body's column prefix and what), or -1.
+  int find(const std::string& name) const {
+    for (std::size_t i = 0; i < header.size(); ++i)
+      if (header[i] == name) return static_cast<int>(i);
+    return -1;
+  }
+  int column(const std::string& name) const {
+    const int i = find(name);
+    if (i < 0) throw std::runtime_error("trajectory.csv has no column " + name);
+    return i;
   }
 };
 
@@ -143,16 +154,29 @@ int main(int argc, char** argv) try {
   run("'" + cli + "' solve '" + scene_path + "' --out '" + run_dir + "' --record grid -q --rtol 1e-11 --atol 1e-11 --t-end 1");
   run("'" + cli + "' export --mjcf '" + scene_path + "' -o '" + model_path + "'");
 
-  const rigidae::Scene scene = rigidae::io::load_scene(scene_path);
+  const rigidae::Scene scene = rigidae::as_system(rigidae::io::load_scene(scene_path));
   const rigidae::MultibodySpec& mb = *scene.multibody;
+  std::vector<std::string> prefix;  // each body's columns in trajectory.csv
+  for (std::size_t b = 0; b < mb.bodies.size(); ++b) prefix.push_back(rigidae::body_column_prefix(mb, b));
   const Table traj = read_csv(run_dir + "/trajectory.csv");
   const int nt = static_cast<int>(traj.rows.size());
   const auto R_at = [&](int body, int k) -> Mat3 {
     if (body < 0) return Mat3::Identity();
-    const std::string& n = mb.bodies[body].name;
+    const std::string& p = prefix[body];
     const auto& r = traj.rows[k];
-    Vec4 q(r[traj.column(n, "qw")], r[traj.column(n, "qx")], r[traj.column(n, "qy")], r[traj.column(n, "qz")]);
+    Vec4 q(r[traj.column(p + "qw")], r[traj.column(p + "qx")], r[traj.column(p + "qy")], r[traj.column(p + "qz")]);
     return rigidae::so3::quaternion_to_matrix(q / q.norm());
+  };
+  // A body's centre of mass: its columns x..z, or (none: the one-body
+  // columns) from its pivot and orientation, pivot + R c.
+  const auto x_at = [&](int body, int k) -> Vec3 {
+    const std::string& p = prefix[body];
+    const auto& r = traj.rows[k];
+    if (traj.find(p + "x") >= 0) return Vec3(r[traj.column(p + "x")], r[traj.column(p + "y")], r[traj.column(p + "z")]);
+    const rigidae::BodySpec& b = mb.bodies[body];
+    if (!b.pivot_W) throw std::runtime_error("trajectory.csv has no column " + p + "x");
+    const Vec3 c = b.com_from_pivot_B.value_or(Vec3(b.R0_WB.transpose() * (b.x0_W - *b.pivot_W)));
+    return *b.pivot_W + R_at(body, k) * c;
   };
 
   // The scene's initial joint positions and rates, by URDF joint name.
@@ -227,8 +251,7 @@ int main(int argc, char** argv) try {
         Mat3 R_mj;
         for (int r = 0; r < 3; ++r)
           for (int c = 0; c < 3; ++c) R_mj(r, c) = d->xmat[9 * id + 3 * r + c];
-        const auto& row = traj.rows[k];
-        const Vec3 x(row[traj.column(n, "x")], row[traj.column(n, "y")], row[traj.column(n, "z")]);
+        const Vec3 x = x_at(b, k);
         body_rot = std::max(body_rot, rigidae::so3::rotation_distance(R_mj, R_at(b, k)));
         body_com = std::max(body_com, (welded_com(m, d, id, own) - x).norm());
       }

@@ -183,6 +183,7 @@ TEST_CASE("schema 2: every shipped multibody scene loads, its joints meet in spa
     REQUIRE(s.multibody.has_value());
     CHECK(!s.multibody->bodies.empty());
     CHECK(s.name == f.stem().string());
+    CHECK(s.schema_version == 2);
     std::ifstream in(f);
     std::stringstream text;
     text << in.rdbuf();

@@ -10,6 +10,7 @@ namespace rigidae::test {
 inline Scene multibody_base(Coordinates c, Equations e, const std::string& scheme) {
   Scene s;
   s.name = "multibody";
+  s.schema_version = 2;  // as a file of bodies and joints would say
   s.formulation.coordinates = c;
   s.formulation.equations = e;
   s.formulation.scheme = scheme;

@@ -124,6 +124,7 @@ TEST_CASE("scene loader: problems/heavy_top.toml and problems/free_body.toml loa
   const std::string dir = std::string(RIGIDAE_SOURCE_DIR) + "/problems/";
   const Scene top = io::load_scene(dir + "heavy_top.toml");
   CHECK(top.source == dir + "heavy_top.toml");
+  CHECK(top.schema_version == 1);  // the loader records the file's version (summary.json says it)
   check_heavy_top(top);
 
   const Scene free = io::load_scene(dir + "free_body.toml");

@@ -237,6 +237,7 @@ TEST_CASE("urdf: a TOML scene with [urdf]: joint names checked at their position
   CHECK(ok.multibody->bodies.size() == 6);  // the tool merged into link6
   CHECK(ok.multibody->joints.size() == 6);
   CHECK(ok.time.end == 1.0);
+  CHECK(ok.schema_version == 2);  // as the [urdf] scene file says
   const std::string text = "schema_version = 2\n[urdf]\nfile = \"arm6.urdf\"\npositions = { elbw = 0.1 }\n"
                            "[time]\nend = 1.0\n";
   const std::string e = error_of([&] { io::parse_scene(text, dir + "bad_arm.toml"); });
@@ -245,6 +246,7 @@ TEST_CASE("urdf: a TOML scene with [urdf]: joint names checked at their position
   // The .urdf file alone is a scene with default run settings.
   const Scene direct = io::load_scene(dir + "arm6.urdf");
   CHECK(direct.multibody->bodies.size() == 6);
+  CHECK(direct.schema_version == 2);  // no version of its own: read as a scene of bodies and joints
   CHECK(direct.name == "arm6");
 }
 
@@ -252,8 +254,25 @@ TEST_CASE("mjcf export: trees only, refusals named") {
   const std::string dir = std::string(RIGIDAE_SOURCE_DIR) + "/problems/";
   const std::string loop = error_of([&] { io::mjcf_files(io::load_scene(dir + "four_bar.toml"), {}, "m.xml"); });
   CHECK(loop.find("closes a loop") != std::string::npos);
-  const std::string one = error_of([&] { io::mjcf_files(io::load_scene(dir + "heavy_top.toml"), {}, "m.xml"); });
-  CHECK(one.find("one-body scene") != std::string::npos);
+  // A one-body scene is written as the system it runs as: the top on a ball
+  // joint at the fixed point, the body frame at its centre of mass (0, 1, 0),
+  // the joint 1 m below it along -y, the start the scene's (tests/mujoco/
+  // runs the model against rigidae's run).
+  const auto top = io::mjcf_files(io::load_scene(dir + "heavy_top.toml"), {}, "m.xml");
+  REQUIRE(top.size() == 1);
+  const std::string& xml = top[0].second;
+  CHECK(xml.find("<body name=\"body\" pos=\"0 1 0\" quat=\"1 0 0 0\">") != std::string::npos);
+  CHECK(xml.find("<joint name=\"body_pivot\" type=\"ball\" pos=\"0 -1 0\"/>") != std::string::npos);
+  CHECK(xml.find("mass=\"15\" diaginertia=") != std::string::npos);
+  CHECK(xml.find("qpos=\"1 0 0 0\" qvel=\"0 150 -4.61538") != std::string::npos);
+  CHECK(xml.find("freejoint") == std::string::npos);
+  // A free body: the ball joint at its centre of mass.
+  const auto free = io::mjcf_files(io::load_scene(dir + "free_body.toml"), {}, "m.xml");
+  CHECK(free[0].second.find("<joint name=\"body_pivot\" type=\"ball\" pos=\"0 0 0\"/>") != std::string::npos);
+  // A pivoted body that a joint also holds to the ground closes a loop.
+  const std::string pivot_loop =
+      error_of([&] { io::mjcf_files(io::load_scene(dir + "pendulum_1000_pivot.toml"), {}, "m.xml"); });
+  CHECK(pivot_loop.find("closes a loop") != std::string::npos);
   // A 100-link chain continues in <include>d files (MuJoCo's XML nesting limit):
   // 40 bodies in the model file, 40 in part 1, 20 in part 2.
   Scene chain;

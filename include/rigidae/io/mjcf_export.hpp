@@ -1,6 +1,8 @@
 #pragma once
-// MJCF (MuJoCo's XML model format) from a mechanism scene: `rigidae export
-// --mjcf SCENE -o model.xml` (src/io/mjcf_writer.cpp has the rules).
+// MJCF (MuJoCo's XML model format) from a scene: `rigidae export --mjcf
+// SCENE -o model.xml` (src/io/mjcf_writer.cpp has the rules). The scene is
+// written as the system it runs as (as_system): a one-body scene is its body
+// on a ball joint at the fixed point (a free body: at its centre of mass).
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,8 +21,8 @@ struct MjcfOptions {
 
 // The model as files: (name, text), the main one first, named `main_name`;
 // the others `STEM.partK.xml` beside it, <include>d where the nesting is cut.
-// Throws InputError for what MJCF cannot hold here: a scene of one body
-// without joints (schema 1), closed loops, springs and loads.
+// Throws InputError for what MJCF cannot hold here: closed loops,
+// particles, springs and loads.
 std::vector<std::pair<std::string, std::string>> mjcf_files(const Scene& scene, const MjcfOptions& options,
                                                             const std::string& main_name);
 

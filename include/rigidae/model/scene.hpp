@@ -65,6 +65,11 @@ struct Formulation {
 
 struct Scene {
   std::string source;       // file the scene came from ("" when built in code)
+  // The schema_version of the scene file, as the loader read it: 1 (one
+  // body), 2 (bodies and joints, a [urdf] scene among them). A bare .urdf
+  // file has no version of its own: it is read as a scene of bodies and
+  // joints and recorded as 2. 0: built in code, from no file.
+  int schema_version = 0;
   std::string name;         // short name for reports
   std::string description;  // free text
   RigidBodySpec body;

@@ -69,6 +69,17 @@ class RunColumns {
   virtual const OneBodyView* one_body() const { return nullptr; }
 };
 
+// Whether the runs of a system record the single-body column set: a system
+// loaded from a one-body scene (MultibodySpec::one_body_scene) does, any
+// other the mechanism columns. make_run_columns and body_column_prefix read
+// this one function, so that what is recorded and what reads it back agree.
+bool records_one_body_columns(const MultibodySpec& spec);
+
+// The prefix of body `body`'s columns in the run's files (trajectory.csv):
+// "" for the single-body columns (qw..qz, no position), "NAME." for a
+// mechanism's (NAME.qw.., NAME.x.., NAME.pivot_force_x..).
+std::string body_column_prefix(const MultibodySpec& spec, std::size_t body);
+
 // The column set of a run of `system` (built from as_system(scene)); `scene`
 // is the scene as loaded (its integrator says whether the multipliers are
 // error-controlled).
