@@ -21,14 +21,23 @@ CHROMIUM = shutil.which("chromium")
 
 def screenshot(page, t, png):
     """Chromium's picture of the page at time t (the page shows that time, paused)."""
-    # Up to 300 s: a software-rendered page takes ~5 s on a quiet machine and
-    # passed 60 s on a busy one (load ~8). A profile of its own: two Chromiums on one profile (tests run in
-    # parallel) hand the page to the first, and the second never returns.
-    p = subprocess.run([CHROMIUM, "--headless=new", f"--user-data-dir={png.parent / 'chromium-profile'}",
-                        "--no-first-run", "--no-sandbox", "--disable-gpu-sandbox",
-                        "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--hide-scrollbars",
-                        "--window-size=640,480", "--virtual-time-budget=4000", f"--screenshot={png}",
-                        f"file://{page}#t={t}"], capture_output=True, text=True, timeout=300)
+    # A software-rendered page takes ~5 s on a quiet machine and passed 60 s
+    # on a busy one (load ~8); a Chromium that has not answered in 150 s has
+    # hung (seen in CI with two at once) and is tried once more on a fresh
+    # profile. A profile of its own: two Chromiums on one profile (tests run
+    # in parallel) hand the page to the first, and the second never returns.
+    for attempt in (1, 2):
+        profile = png.parent / f"chromium-profile-{png.stem}-{attempt}"
+        try:
+            p = subprocess.run([CHROMIUM, "--headless=new", f"--user-data-dir={profile}",
+                                "--no-first-run", "--no-sandbox", "--disable-gpu-sandbox",
+                                "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--hide-scrollbars",
+                                "--window-size=640,480", "--virtual-time-budget=4000", f"--screenshot={png}",
+                                f"file://{page}#t={t}"], capture_output=True, text=True, timeout=150)
+            break
+        except subprocess.TimeoutExpired:
+            if attempt == 2:
+                raise
     assert p.returncode == 0, p.stderr[-2000:]
     # The bar below the drawing is 44 px high: only the drawing is compared.
     return np.asarray(Image.open(png).convert("RGB"), dtype=float)[:-50]
