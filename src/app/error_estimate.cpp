@@ -174,7 +174,7 @@ bool within(const ErrorEstimate& d, double limit) {
 }
 
 // The arbiter after a singular pose (error_estimate.hpp, "Branch check"):
-// `tight` is the companion's scene, `companion_dir` its folder.
+// `tight` is the companion's scene (its tolerances and limits); e.tight_dir holds its run.
 void arbitrate(const Scene& scene, const SolveOutcome& run, const Scene& tight, ErrorEstimate& e) {
   Scene arbiter = tight;
   const bool companion_linear = tight.formulation.coordinates == Coordinates::Linear &&
