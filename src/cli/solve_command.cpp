@@ -114,9 +114,8 @@ int solve_command(const std::vector<std::string>& args) {
     if (!verdict.estimated() && !quiet) fmt::print(stderr, "rigidae: note: {}\n", describe(verdict));
   }
   // Accuracy warnings (app/accuracy_check.hpp) reach stderr even with --quiet.
-  SolveOutcome judged = o;
-  apply_verdict(judged, verdict);
-  for (const AccuracyWarning& w : judged.warnings) fmt::print(stderr, "rigidae: warning: {}\n", w.message);
+  for (const AccuracyWarning& w : o.warnings) fmt::print(stderr, "rigidae: warning: {}\n", w.message);
+  for (const AccuracyWarning& w : verdict.warnings) fmt::print(stderr, "rigidae: warning: {}\n", w.message);
   if (cl.has("--plot")) {
     // reference.csv (above) lets the figures draw the error against time.
     std::vector<std::string> plot_args{out.string()};

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <charconv>
 #include <limits>
 #include <cstdlib>
 #include <sstream>
@@ -11,6 +10,7 @@
 #include "rigidae/core/error.hpp"
 #include "rigidae/record/columns.hpp"
 #include "rigidae/so3/rotation.hpp"
+#include "shortest_double.hpp"
 
 namespace rigidae {
 
@@ -133,11 +133,10 @@ BodyGrid read_bodies(CsvRows& rows, const std::filesystem::path& csv) {
   return g;
 }
 
-// Shortest text that reads back to the same double, as in trajectory.csv.
+// Shortest text that reads back to the same double, as the recorder writes it.
 void put(std::string& s, double x) {
-  char text[32];
-  const auto end = std::to_chars(text, text + sizeof text, x).ptr;
-  s.append(text, end);
+  char text[record_detail::kShortestMaxBytes];
+  s.append(text, record_detail::write_shortest(text, x));
 }
 
 }  // namespace
