@@ -30,7 +30,9 @@ if [ "$subset" = 1 ]; then
   # half the time of -O1 (multibody_problem.cpp: 9.4 s against 18.0 s; -O0
   # 13.7 s, plain -O2 6.6 s) and still runs the tests at a usable speed;
   # the sanitizers see the same code paths.
-  config=(-DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-Og" -DRIGIDAE_PYTHON=OFF)
+  # The library in unity batches (CMakeLists.txt, RIGIDAE_UNITY_CORE).
+  config=(-DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-Og" -DRIGIDAE_PYTHON=OFF
+          -DRIGIDAE_UNITY_CORE=ON)
   targets=(--target rigidae rigidae_tests)
 else
   build=${RIGIDAE_ASAN_BUILD:-build-asan}

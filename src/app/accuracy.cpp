@@ -72,7 +72,6 @@ class ReferenceMultipliers {
   }
 
  private:
-  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   Scene system_scene_;
   multibody::MultibodyProblem system_;
   OneBodyView view_;

@@ -13,7 +13,6 @@ namespace rigidae {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Limits. Each step's local error passes IDA's test at about tau (relative);
 // an invariant that the equations conserve changes only by such errors. If

@@ -29,7 +29,6 @@ namespace rigidae {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kAnyScheme = "any";
 // The scheme a run without constraints (Euler angles) uses: all give it the same ODE.
 constexpr const char* kSchemeForUnconstrained = "ggl";

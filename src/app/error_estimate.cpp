@@ -283,7 +283,9 @@ ErrorEstimate estimate_global_error(const Scene& scene, const SolveOutcome& run,
     return not_estimated(fmt::format("the companion run at rtol {:g}, atol {:g} {}", e.rtol, e.atol, failed));
   auto passed_singular_pose = [](const SolveOutcome& o) {
     return std::any_of(o.warnings.begin(), o.warnings.end(),
-                       [](const AccuracyWarning& w) { return w.quantity == "singular_pose"; });
+                       [](const AccuracyWarning& w) {
+                         return w.quantity == "singular_pose" || w.quantity == "branch_switch";
+                       });
   };
   e.singular_pose_passed = passed_singular_pose(run) || passed_singular_pose(t);
   try {

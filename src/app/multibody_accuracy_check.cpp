@@ -9,7 +9,6 @@ namespace rigidae {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kSmallestSize = 1e-3;  // m
 
 }  // namespace

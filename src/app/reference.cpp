@@ -22,7 +22,6 @@ namespace rigidae {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kSummary = "reference.json";
 
 void fill_from_run(ReferenceTrajectory& ref, const std::filesystem::path& dir) {

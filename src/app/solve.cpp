@@ -118,20 +118,49 @@ SolveOutcome solve_scene(const Scene& scene, const std::filesystem::path& out_di
 
 namespace {
 
-// Singular poses passed (multibody/row_subset.cpp): the branch may have changed.
+// Singular poses passed (multibody/row_subset.cpp) and what the branch check
+// (multibody/branch_check.cpp) saw there: a pose where the velocity jumped is
+// a branch switch (warning branch_switch); a pose it could not check (the run
+// ended inside its neighbourhood) keeps the warning that the branch may have
+// changed; a pose passed with a continuous velocity is no warning (it stays
+// in summary.json's row_subset.singular_poses and events.csv).
 void add_singular_pose_warning(const multibody::MultibodyProblem& problem, SolveOutcome& o) {
-  if (problem.singular_poses().empty()) return;
-  const multibody::SingularPose& first = problem.singular_poses().front();
-  AccuracyWarning w;
-  w.quantity = "singular_pose";
-  w.drift = first.condition;
-  w.message = fmt::format(
-      "the run passed {} singular pose(s) (first at t = {:.9g} s, joints {}), where the constraint rows nearly lose "
-      "rank and assembly branches cross; the motion may have continued on another branch "
-      "(rigidae has no general branch check: compare with a closed form or the mechanism's known branch; "
-      "events.csv lists them as singular_pose)",
-      problem.singular_poses().size(), first.t, first.joints);
-  o.warnings.push_back(w);
+  const multibody::SingularPose* switched = nullptr;
+  const multibody::SingularPose* unchecked = nullptr;
+  int n_switched = 0;
+  for (const multibody::SingularPose& sp : problem.singular_poses()) {
+    if (sp.branch_switch) {
+      ++n_switched;
+      if (!switched) switched = &sp;
+    } else if (std::isnan(sp.velocity_jump) && !unchecked) {
+      unchecked = &sp;
+    }
+  }
+  if (switched) {
+    AccuracyWarning w;
+    w.quantity = "branch_switch";
+    w.drift = switched->velocity_jump;
+    w.limit = multibody::kBranchJump;
+    w.message = fmt::format(
+        "the run changed assembly branch at {} singular pose(s) (first at t = {:.9g} s, joints {}): its velocity "
+        "jumped by {:.3g} of its size across the pose (limit {}), an impulse no applied force explains, so the "
+        "motion after it follows another branch than the one it arrived on (events.csv: branch_switch); a "
+        "tighter tolerance or an index-3 scheme may keep the branch",
+        n_switched, switched->t, switched->joints, switched->velocity_jump, multibody::kBranchJump);
+    o.warnings.push_back(w);
+  }
+  if (unchecked) {
+    AccuracyWarning w;
+    w.quantity = "singular_pose";
+    w.drift = unchecked->condition;
+    w.message = fmt::format(
+        "the run reached a singular pose at t = {:.9g} s (joints {}), where the constraint rows nearly lose rank "
+        "and assembly branches cross, and did not leave its neighbourhood: the branch check (the velocity's "
+        "continuity across the pose) could not be made, so the motion may have continued on another branch "
+        "(events.csv lists it as singular_pose)",
+        unchecked->t, unchecked->joints);
+    o.warnings.push_back(w);
+  }
 }
 
 // Every step, output point and event to two sinks (the recorder, then `second`).

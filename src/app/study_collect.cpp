@@ -19,7 +19,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double num(const json& j) { return j.is_number() ? j.get<double>() : kNaN; }
 

@@ -64,7 +64,6 @@ UnrecordedRun system_run(const Scene& scene) {
 UnrecordedRun run_unrecorded(const Scene& scene) { return system_run(as_system(scene)); }
 
 double final_orientation_error(const UnrecordedRun& r, const ReferenceTrajectory& ref) {
-  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   const BodyGrid& g = ref.grid;
   if (!ref.ok || r.run.status != RunStatus::Success || r.last.t.empty() || g.t.empty()) return kNaN;
   if (std::abs(r.last.t[0] - g.t.back()) > 1e-9 * std::max(1.0, std::abs(g.t.back()))) return kNaN;

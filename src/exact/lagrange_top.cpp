@@ -17,7 +17,7 @@
 namespace rigidae::exact {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
 constexpr double kPi = std::numbers::pi;
 
 // c0 + c1 x + c2 x^2 + c3 x^3.
@@ -50,7 +50,7 @@ double bracketed_root(const Cubic& f, double lo, double hi) {
     const double d = f.slope(x);
     double next = d != 0.0 ? x - fx / d : 0.5 * (lo + hi);
     if (!(next > std::min(lo, hi) && next < std::max(lo, hi))) next = 0.5 * (lo + hi);
-    if (std::abs(next - x) <= 2.0 * kEps * std::abs(x) || std::abs(hi - lo) <= 2.0 * kEps * std::abs(x)) return next;
+    if (std::abs(next - x) <= 2.0 * kEpsilon * std::abs(x) || std::abs(hi - lo) <= 2.0 * kEpsilon * std::abs(x)) return next;
     x = next;
   }
   return x;
@@ -137,7 +137,7 @@ class LagrangeTop final : public ExactSolution {
       const double step = fS(x3) / fS.slope(x3);
       if (!(step > 0.0)) break;
       x3 -= step;
-      if (step <= 2.0 * kEps * x3) break;
+      if (step <= 2.0 * kEpsilon * x3) break;
     }
     const double e0 = -fS.c0 / (beta * x3);
     const double e1 = (beta * e0 - fS.c1) / (beta * x3);
@@ -251,8 +251,8 @@ class LagrangeTop final : public ExactSolution {
 
     // Round-off grows with the phases sigma, delta (~|omega| t) and tau; a
     // start close to a pole fixes sigma0 or delta0 only to eps / sin(distance).
-    accuracy_ = 1e-12 + 20.0 * kEps * (omega0.norm() + lambda_ * (1.0 + quarter_)) * span +
-                4.0 * kEps / std::sqrt(0.5 * std::min(v0, w0));
+    accuracy_ = 1e-12 + 20.0 * kEpsilon * (omega0.norm() + lambda_ * (1.0 + quarter_)) * span +
+                4.0 * kEpsilon / std::sqrt(0.5 * std::min(v0, w0));
   }
 
   LagrangeTop(const LagrangeTop&) = delete;  // rates_ refers to this object

@@ -427,6 +427,7 @@ void MultibodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
   singular_poses_.clear();
   near_singular_ = false;
   start_condition_ = -1.0;
+  branch_ = BranchWatch{};
   if (!redundancy_.dropped.empty()) {
     for (ConstraintBlock& b : blocks_)
       if (!b.internal) std::fill(b.active.begin(), b.active.end(), 1);

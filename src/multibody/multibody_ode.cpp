@@ -329,7 +329,10 @@ void MultibodyOde::after_step(double t, const double* x) {
   problem_.follow_motion(t, y_drift_.data());
   // The independent subset of the rows (row_subset.cpp): the state holds no
   // multipliers, so a new subset only changes the next KKT factorisation.
-  problem_.check_row_subset(t, y_drift_.data(), /*multipliers_in_y=*/false);
+  // The branch check across singular poses reads the state's derivative.
+  const double* xdot = nullptr;
+  if (problem_.watches_singular_poses() && rhs(t, x, xdot_scratch_.data())) xdot = xdot_scratch_.data();
+  problem_.check_row_subset(t, y_drift_.data(), /*multipliers_in_y=*/false, xdot);
 }
 
 std::string MultibodyOde::describe_stall(double t, const double* x) {

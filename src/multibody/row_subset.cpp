@@ -142,7 +142,7 @@ int MultibodyProblem::held_unknowns() const {
   return held;
 }
 
-bool MultibodyProblem::check_row_subset(double t, const double* y, bool multipliers_in_y) {
+bool MultibodyProblem::check_row_subset(double t, const double* y, bool multipliers_in_y, const double* yp) {
   // Mechanisms with rows set aside only: the check costs ~11 us a step on
   // a four-bar (+37 % of the user time of problems/four_bar.toml, 5,557
   // steps: measured with the watch on and off), too much for every closed
@@ -175,6 +175,7 @@ bool MultibodyProblem::check_row_subset(double t, const double* y, bool multipli
       refs, bodies_, velocity_offset_, nv_total_, [&](int b) { return &work_[b].st; },
       [&](int b) { return &work_[b].terms.G; }, redundancy_.length_scale, *dropped_eval_, t);
   watch_singular_pose(t, Gt, refs);
+  check_branch(t, y, yp);
   double residual = 0.0;
   const Eigen::MatrixXd alpha = row_dependencies(Gt, kept, aside, residual);
   const double dependency = alpha.size() ? alpha.cwiseAbs().maxCoeff() : 0.0;

@@ -101,7 +101,7 @@ StepAction MultibodyProblem::after_step(double t, double h, Eigen::VectorXd& y, 
   // only to the drift: without the projection an index-2 row G v = 0 would
   // ask the first step for a jump of that size, which no step size passes),
   // the multipliers are made consistent and the integrator restarts.
-  if (check_row_subset(t, y.data())) {
+  if (check_row_subset(t, y.data(), true, yp.data())) {
     project(t, y, yp);
     a.kind = StepAction::Kind::Restart;
   }

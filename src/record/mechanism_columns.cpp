@@ -227,7 +227,12 @@ void MechanismColumns::add_summary(nlohmann::json& j, const RunExtremes& /*x*/) 
   for (const multibody::RedundantRow& d : problem_.set_aside())
     now.push_back({{"joint", spec.joints[d.joint].name}, {"row", d.row}});
   for (const multibody::SingularPose& sp : problem_.singular_poses())
-    poses.push_back({{"t", sp.t}, {"joints", sp.joints}, {"condition", sp.condition}});
+    poses.push_back({{"t", sp.t},
+                     {"joints", sp.joints},
+                     {"condition", sp.condition},
+                     // the branch check (branch_check.cpp); null: the run ended inside the pose
+                     {"velocity_jump", std::isnan(sp.velocity_jump) ? nlohmann::json() : nlohmann::json(sp.velocity_jump)},
+                     {"branch_switch", sp.branch_switch}});
   j["row_subset"] = {{"changes", problem_.subset_changes()},
                      {"largest_dependency", problem_.largest_dependency()},
                      {"largest_amplification", problem_.largest_amplification()},

@@ -39,7 +39,6 @@ struct ErkStepCalls {
   static constexpr int kRootReturn = ARK_ROOT_RETURN;
 };
 
-#undef RIGIDAE_SHARED_CALLS
 
 class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
  public:

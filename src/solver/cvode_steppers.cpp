@@ -52,7 +52,6 @@ struct CvodeCalls {
   static constexpr int kRootReturn = CV_ROOT_RETURN;
 };
 
-#undef RIGIDAE_SHARED_CALLS
 
 class CvodeStepper final : public SundialsStepper<CvodeCalls> {
  public:

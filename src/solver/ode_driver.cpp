@@ -51,10 +51,6 @@ int root_callback(realtype t, N_Vector x, realtype* g, void* user_data) {
 
 namespace {
 
-using ode::CallbackData;
-using ode::cb;
-using ode::check;
-
 struct Vectors {
   SUNContext ctx = nullptr;
   N_Vector x = nullptr, atol = nullptr, dky = nullptr;
@@ -104,7 +100,7 @@ RunResult integrate_ode(OdeProblem& problem, const SolverSettings& opt, const Ti
   const int n = problem.size();
 
   RunResult result;
-  CallbackData data;
+  ode::CallbackData data;
   data.problem = &problem;
   data.projection = method.projection;
   if (!problem.has_invariants()) data.projection.enabled = false;

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
@@ -197,6 +198,10 @@ TEST_CASE("singular poses: the parallelogram follows its closed form through the
           break;
         }
       const double on_branch_until = std::min(left, cl.t.back());
+      std::string jumps;
+      for (const auto& sp : p.singular_poses())
+        jumps += fmt::format(" t = {:.4f} s jump {:.2g}{}", sp.t, sp.velocity_jump, sp.branch_switch ? " (switch)" : "");
+      MESSAGE(name << ", poses:" << jumps);
       MESSAGE(name << ": on the closed form (" << limit << ") until t = " << on_branch_until << " s; "
                    << (r.status == RunStatus::Success ? "ran to the end" : "failed: " + r.message.substr(0, 60))
                    << "; singular poses noted " << p.singular_poses().size());
@@ -213,6 +218,25 @@ TEST_CASE("singular poses: the parallelogram follows its closed form through the
       if (left < std::numeric_limits<double>::infinity()) {
         REQUIRE_FALSE(p.singular_poses().empty());
         CHECK(p.singular_poses().back().t <= left);
+      }
+      // The branch check (branch_check.cpp) tells the runs apart: one that
+      // left the closed form and ran on past the pose has a pose whose
+      // velocity jumped (measured 0.92 .. 1.78 of its size), at or before the
+      // first output off it; every pose passed on the branch has a jump of at
+      // most 1e-3 (measured 3e-6 .. 3e-5), whatever the scheme.
+      for (const auto& sp : p.singular_poses()) {
+        if (std::isnan(sp.velocity_jump)) continue;  // the run failed inside the pose
+        if (sp.t < left - 0.015) {
+          CHECK(sp.velocity_jump < 1e-3);
+          CHECK_FALSE(sp.branch_switch);
+        }
+      }
+      if (left < std::numeric_limits<double>::infinity() && r.status == RunStatus::Success) {
+        const auto sw = std::find_if(p.singular_poses().begin(), p.singular_poses().end(),
+                                     [](const auto& sp) { return sp.branch_switch; });
+        REQUIRE(sw != p.singular_poses().end());
+        CHECK(sw->t <= left);
+        CHECK(sw->velocity_jump > 0.5);
       }
       if (r.status == RunStatus::Success) {
         // ... and solve warns of the poses noted. In the scene's own
@@ -243,22 +267,51 @@ TEST_CASE("singular poses: the parallelogram follows its closed form through the
   MESSAGE("on the closed form to t = 1 s: " << whole_run);
 }
 
-TEST_CASE("singular poses: solve warns about a singular pose passed and lists it in summary.json and events.csv") {
+TEST_CASE("singular poses: solve warns of a branch switch at a singular pose, not of a pose passed on the branch, "
+          "and lists both in summary.json and events.csv") {
+  // quaternion/euler/index2 passes the first collinear pose on the
+  // parallelogram branch and leaves it at the second (the test above);
+  // linear/euler/index2 stays on it through both.
   Scene s = problem("singular_linkage.toml");
-  s.formulation.scheme = "index2";  // goes on past the pose
+  s.formulation.scheme = "index2";
   const fs::path out = rigidae::test::fresh_temp_dir("singular_linkage_index2");
   const SolveOutcome o = solve_scene(s, out);
   REQUIRE(o.run.status == RunStatus::Success);
-  bool warned = false;
-  for (const AccuracyWarning& w : o.warnings)
-    warned |= w.quantity == "singular_pose" && w.message.find("passed 2 singular pose(s)") != std::string::npos;
-  CHECK(warned);
+  int switch_warnings = 0;
+  for (const AccuracyWarning& w : o.warnings) {
+    CHECK(w.quantity != "singular_pose");  // both poses were left behind and checked
+    if (w.quantity != "branch_switch") continue;
+    ++switch_warnings;
+    CHECK(w.message.find("changed assembly branch at 1 singular pose(s)") != std::string::npos);
+    CHECK(w.message.find("joints A B C D") != std::string::npos);
+    CHECK(w.drift > 0.5);
+  }
+  CHECK(switch_warnings == 1);
   const nlohmann::json j = nlohmann::json::parse(rigidae::test::read_file(out / "summary.json"));
-  REQUIRE(j["row_subset"]["singular_poses"].size() == 2);
-  CHECK(j["row_subset"]["singular_poses"][0]["joints"] == "A B C D");
-  CHECK(j["row_subset"]["singular_poses"][1]["t"].get<double>() == doctest::Approx(5.0 / 6.0).epsilon(0.02));
+  const nlohmann::json& poses = j["row_subset"]["singular_poses"];
+  REQUIRE(poses.size() == 2);
+  CHECK(poses[0]["joints"] == "A B C D");
+  CHECK(poses[0]["branch_switch"] == false);
+  CHECK(poses[0]["velocity_jump"].get<double>() < 1e-3);
+  CHECK(poses[1]["t"].get<double>() == doctest::Approx(5.0 / 6.0).epsilon(0.02));
+  CHECK(poses[1]["branch_switch"] == true);
+  CHECK(poses[1]["velocity_jump"].get<double>() > 0.5);
   const std::string events = rigidae::test::read_file(out / "events.csv");
   CHECK(events.find(",singular_pose,A B C D,") != std::string::npos);
+  CHECK(events.find(",branch_switch,A B C D,") != std::string::npos);
+
+  s.formulation.coordinates = Coordinates::Linear;
+  const fs::path out2 = rigidae::test::fresh_temp_dir("singular_linkage_linear_index2");
+  const SolveOutcome kept = solve_scene(s, out2);
+  REQUIRE(kept.run.status == RunStatus::Success);
+  for (const AccuracyWarning& w : kept.warnings) {
+    CHECK(w.quantity != "singular_pose");
+    CHECK(w.quantity != "branch_switch");
+  }
+  const nlohmann::json j2 = nlohmann::json::parse(rigidae::test::read_file(out2 / "summary.json"));
+  REQUIRE(j2["row_subset"]["singular_poses"].size() == 2);
+  for (const auto& pose : j2["row_subset"]["singular_poses"]) CHECK(pose["branch_switch"] == false);
+  CHECK(rigidae::test::read_file(out2 / "events.csv").find("branch_switch") == std::string::npos);
 }
 
 // Issue 25 item 4: a flat four-bar's start is called singular, not redundant

@@ -5,6 +5,8 @@
 // 9 coordinates, 9 velocities, 6 position constraints. Vectors whose size
 // depends on the representation are Eigen "dynamic with a maximum" types:
 // they live on the stack, so the residual never touches the heap.
+#include <limits>
+
 #include <Eigen/Dense>
 
 namespace rigidae {
@@ -12,6 +14,9 @@ namespace rigidae {
 using Vec3 = Eigen::Vector3d;
 using Vec4 = Eigen::Vector4d;
 using Mat3 = Eigen::Matrix3d;
+
+// "Not computed" in records, summaries and accuracy tables.
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 inline constexpr int kMaxCoordinates = 9;  // nq
 inline constexpr int kMaxVelocities = 9;   // nv

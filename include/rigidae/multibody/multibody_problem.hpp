@@ -70,6 +70,7 @@
 // scene's expected_dof that differs from rank_dof is a warning.
 #include <Eigen/QR>
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -172,6 +173,26 @@ struct SingularPose {
   double t = 0.0;
   double condition = 1.0;   // smallest min|R_kk|/max|R_kk| of the kept rows seen there, relative to the start's
   std::string joints;       // the joints in the near-dependency, space-separated
+  // The branch check (branch_check.cpp): the velocity's jump across the pose
+  // relative to its size, NaN until the run has left the pose behind; above
+  // 0.1 the run changed assembly branch there.
+  double velocity_jump = std::numeric_limits<double>::quiet_NaN();
+  bool branch_switch = false;
+};
+
+// The branch check's limit on the velocity's relative jump across a pose
+// (branch_check.cpp). Measured on singular_linkage.toml at rtol 1e-10, every
+// Euler-form combination: passages on the branch 3e-6 .. 3e-5, switches
+// 0.92 .. 1.78.
+inline constexpr double kBranchJump = 0.1;
+
+// What the branch check keeps between accepted steps (branch_check.cpp): the
+// last step before a singular pose's neighbourhood, its body velocities V0
+// and their rates A0.
+struct BranchWatch {
+  bool valid = false, inside = false;
+  double t0 = 0.0;
+  Eigen::VectorXd V0, A0, V1, A1, y_shift, scratch;
 };
 
 class MultibodyProblem final : public DaeProblem {
@@ -236,7 +257,11 @@ class MultibodyProblem final : public DaeProblem {
   // and inflates the multipliers (read from y when multipliers_in_y; the ODE
   // form's state holds none). Returns true when the masks changed (the
   // multipliers must be made consistent again). Records a "row_subset" event.
-  bool check_row_subset(double t, const double* y, bool multipliers_in_y = true);
+  // yp: the state's derivative at t (IDA's y', the ODE's right-hand side),
+  // for the branch check across singular poses; nullptr: not checked.
+  bool check_row_subset(double t, const double* y, bool multipliers_in_y = true, const double* yp = nullptr);
+  // Whether check_row_subset watches singular poses (and wants yp).
+  bool watches_singular_poses() const { return !redundancy_.dropped.empty(); }
   // The multipliers of the rows set aside (held at 0): their number, the
   // same whichever rows are set aside.
   int held_unknowns() const override;
@@ -244,6 +269,11 @@ class MultibodyProblem final : public DaeProblem {
   // pose noted; the kept multipliers against the minimum-norm ones.
   void watch_singular_pose(double t, const Eigen::SparseMatrix<double, Eigen::ColMajor, long>& Gt,
                            const std::vector<ForceRowRef>& refs);
+  // The branch check after an accepted step (branch_check.cpp), and its
+  // parts: per body v_c and omega in space; the kinetic-energy norm at y.
+  void check_branch(double t, const double* y, const double* yp);
+  void body_velocities(const double* y, Eigen::VectorXd& V) const;
+  double velocity_norm(const double* y, const Eigen::VectorXd& x) const;
   double multiplier_amplification(const Eigen::SparseMatrix<double, Eigen::ColMajor, long>& Gt,
                                   const std::vector<ForceRowRef>& refs, const std::vector<int>& block_of,
                                   const std::vector<int>& kept, const double* y) const;
@@ -482,6 +512,7 @@ class MultibodyProblem final : public DaeProblem {
   std::vector<SingularPose> singular_poses_;
   bool near_singular_ = false;     // inside a singular pose's neighbourhood (row_subset.cpp)
   double start_condition_ = -1.0;  // all the rows' R ratio at the start's rank, at the first check
+  BranchWatch branch_;
   double subset_baseline_ = 1.0;
   double start_baseline_ = 1.0;  // the start's  // max |alpha| right after the last choice of the subset
   double largest_dependency_ = 0.0;
