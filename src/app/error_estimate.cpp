@@ -174,47 +174,77 @@ bool within(const ErrorEstimate& d, double limit) {
 }
 
 // The arbiter after a singular pose (error_estimate.hpp, "Branch check"):
-// `tight` is the companion's scene (its tolerances and limits); e.tight_dir holds its run.
+// `tight` is the companion's scene (its tolerances and limits); e.tight_dir
+// holds its run. The candidates in turn, the first that reaches the end
+// without a branch switch of its own deciding: ggl in other coordinates than
+// the companion's, then index2 and projection in linear coordinates (ggl's
+// Newton iteration fails on the singular saddle-point matrix at some poses;
+// the others pass them, on their branch or not as the step sequence falls,
+// and their own branch check says which: on singular_linkage at rtol 1e-11
+// linear/euler/index2 switches, linear/euler/projection keeps it).
 void arbitrate(const Scene& scene, const SolveOutcome& run, const Scene& tight, ErrorEstimate& e) {
-  Scene arbiter = tight;
   const bool companion_linear = tight.formulation.coordinates == Coordinates::Linear &&
                                 tight.formulation.equations == Equations::Euler && tight.formulation.scheme == "ggl" &&
                                 e.companion_combination.empty();
-  arbiter.formulation.coordinates = companion_linear ? Coordinates::Quaternion : Coordinates::Linear;
-  arbiter.formulation.equations = Equations::Euler;
-  arbiter.formulation.scheme = "ggl";
-  arbiter.solver.integrator = "ida";
-  e.arbiter_combination = fmt::format("{}/euler/ggl", companion_linear ? "quaternion" : "linear");
+  const std::pair<Coordinates, std::string> candidates[] = {
+      {companion_linear ? Coordinates::Quaternion : Coordinates::Linear, "ggl"},
+      {Coordinates::Linear, "index2"},
+      {Coordinates::Linear, "projection"},
+  };
   const std::filesystem::path dir = run.out_dir / "error_estimate_arbiter";
-  SolveOutcome a;
-  try {
-    a = solve_scene(arbiter, dir);
-  } catch (const std::runtime_error& x) {
-    e.arbiter = fmt::format("failed: {}", x.what());
-    return;
+  std::string failures;
+  for (const auto& [coordinates, scheme] : candidates) {
+    Scene arbiter = tight;
+    arbiter.formulation.coordinates = coordinates;
+    arbiter.formulation.equations = Equations::Euler;
+    arbiter.formulation.scheme = scheme;
+    arbiter.solver.integrator = "ida";
+    e.arbiter_combination = fmt::format("{}/euler/{}", to_string(coordinates), scheme);
+    const bool companion_itself = e.companion_combination.empty()
+                                      ? tight.formulation.coordinates == coordinates &&
+                                            tight.formulation.equations == Equations::Euler &&
+                                            tight.formulation.scheme == scheme
+                                      : coordinates == Coordinates::Quaternion && scheme == "ggl";
+    if (companion_itself) continue;
+    std::string failed;
+    SolveOutcome a;
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);  // an earlier candidate's files
+    try {
+      a = solve_scene(arbiter, dir);
+      e.companion_wall_s += a.wall_seconds;
+      if (a.run.status != RunStatus::Success)
+        failed = status_text(a);
+      else if (std::any_of(a.warnings.begin(), a.warnings.end(),
+                           [](const AccuracyWarning& w) { return w.quantity == "branch_switch"; }))
+        failed = "it changed branch at a singular pose itself";
+    } catch (const std::runtime_error& x) {
+      failed = x.what();
+    }
+    if (failed.empty()) {
+      ErrorEstimate to_run, to_companion;
+      try {
+        const BodyGrid arbiter_grid = read_trajectory_csv(dir / "trajectory.csv");
+        compare_bodies(scene, read_trajectory_csv(run.out_dir / "trajectory.csv"), arbiter_grid, to_run);
+        compare_bodies(scene, read_trajectory_csv(e.tight_dir / "trajectory.csv"), arbiter_grid, to_companion);
+      } catch (const std::runtime_error& x) {
+        e.arbiter = fmt::format("failed: {}", x.what());
+        return;
+      }
+      if (within(to_run, e.limit)) {
+        e.arbiter = "run";
+        e.orientation = to_run.orientation;
+        e.position_rel_max = to_run.position_rel_max;
+        e.position_rel_final = to_run.position_rel_final;
+      } else {
+        e.arbiter = within(to_companion, e.limit) ? "companion" : "neither";
+      }
+      return;
+    }
+    failures += fmt::format("{}{}: {}", failures.empty() ? "" : "; ", e.arbiter_combination, failed);
+    if (g_interrupt_requested.load()) break;
   }
-  e.companion_wall_s += a.wall_seconds;
-  if (a.run.status != RunStatus::Success) {
-    e.arbiter = "failed: " + status_text(a);
-    return;
-  }
-  ErrorEstimate to_run, to_companion;
-  try {
-    const BodyGrid arbiter_grid = read_trajectory_csv(dir / "trajectory.csv");
-    compare_bodies(scene, read_trajectory_csv(run.out_dir / "trajectory.csv"), arbiter_grid, to_run);
-    compare_bodies(scene, read_trajectory_csv(e.tight_dir / "trajectory.csv"), arbiter_grid, to_companion);
-  } catch (const std::runtime_error& x) {
-    e.arbiter = fmt::format("failed: {}", x.what());
-    return;
-  }
-  if (within(to_run, e.limit)) {
-    e.arbiter = "run";
-    e.orientation = to_run.orientation;
-    e.position_rel_max = to_run.position_rel_max;
-    e.position_rel_final = to_run.position_rel_final;
-  } else {
-    e.arbiter = within(to_companion, e.limit) ? "companion" : "neither";
-  }
+  e.arbiter = "failed: " + failures;
 }
 
 }  // namespace

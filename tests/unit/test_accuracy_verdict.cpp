@@ -219,6 +219,36 @@ TEST_CASE("verdict: after a singular pose an arbiter that sides with the run mak
   for (const auto& w : summary["warnings"]) CHECK(w["quantity"] == "singular_pose");  // no verdict warning
 }
 
+// quaternion/lagrange/baumgarte at rtol 1e-9 keeps the parallelogram branch
+// (2.2e-8 rad off the closed form); its companion at 1e-11 leaves it at the
+// second pose (its own branch_switch warning), linear/euler/ggl fails its
+// Newton iteration at the first and linear/euler/index2 switches at the
+// second (its own check says so): the third arbiter, linear/euler/projection,
+// passes both poses without a switch and sides with the run (measured:
+// before the fallbacks, the verdict warned 1.7 rad about a run 2.2e-8 rad off).
+TEST_CASE("verdict: arbiters that fail or switch branch at a singular pose are passed over") {
+  const fs::path out = rigidae::test::fresh_temp_dir("verdict_arbiter_index2");
+  const auto r = rigidae::test::run_cli("solve " + std::string(RIGIDAE_SOURCE_DIR) +
+                                        "/problems/singular_linkage.toml --coordinates quaternion --equations lagrange "
+                                        "--scheme baumgarte --integrator ida --rtol 1e-9 --atol 1e-9 --error-estimate "
+                                        "-q --out " + out.string());
+  REQUIRE(r.exit_code == 0);
+  const double off = off_parallelogram(read_trajectory_csv(out / "trajectory.csv"));
+  CHECK(off < 100 * 1e-9);  // on the branch
+  const nlohmann::json summary = read_json(out / "summary.json");
+  const nlohmann::json& e = summary["error_estimate"];
+  CAPTURE(e.dump());
+  REQUIRE(e["arbiter"].is_object());
+  CHECK(e["arbiter"]["combination"] == "linear/euler/projection");
+  CHECK(e["arbiter"]["verdict"] == "run");
+  CHECK(e["orientation"]["max_orientation_rad"].get<double>() < 100 * 1e-9);
+  for (const auto& w : summary["warnings"]) {
+    CHECK(w["quantity"] != "orientation_error");
+    CHECK(w["quantity"] != "position_error");
+    CHECK(w["quantity"] != "branch_switch");
+  }
+}
+
 // The verdict's own logic: an arbiter that agrees with the companion after a
 // singular pose says the run switched branch; the run's singular_pose
 // warning stays beside the verdict's.

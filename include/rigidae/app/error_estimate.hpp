@@ -34,13 +34,17 @@
 // may have switched, so a difference past the limit there calls a third run,
 // the arbiter: the same scene at the companion's tolerances in other
 // coordinates (linear/euler/ggl on IDA, or quaternion/euler/ggl when the
-// companion already is that). Within the limit of the run, it sides with the
+// companion already is that; when it fails or changes branch by its own
+// branch check, linear/euler/index2, then linear/euler/projection). Within
+// the limit of the run, it sides with the
 // run: the estimate is the run's difference to the arbiter (the companion was
 // the one that switched); within the limit of the companion, two tighter runs
 // agree against the run, whose warning then says so; else which run is right
-// is not known and the warning says that. The run's own singular_pose
-// warning stays whatever the verdict: a run and its companion can change
-// branch together (measured on problems/singular_linkage.toml:
+// is not known and the warning says that. "Passed a singular pose" means a
+// branch_switch or singular_pose warning of the run's own (its branch check,
+// src/multibody/branch_check.cpp, found the velocity jump there, or could not
+// check). The run's own branch_switch warning stays whatever the verdict: a
+// run and its companion can change branch together (measured on problems/singular_linkage.toml:
 // linear/lagrange/index2 at rtol 1e-5 ends 1.7 rad off the closed form, its
 // companion 1.5e-3 rad from it).
 //
@@ -107,7 +111,7 @@ struct ErrorEstimate {
   // either may have changed assembly branch, and the difference is no error
   // estimate of the run.
   bool branch_disagreement = false;
-  bool singular_pose_passed = false;  // the run or its companion reported a singular_pose warning
+  bool singular_pose_passed = false;  // the run or its companion warned singular_pose or branch_switch
   // The arbiter after a singular pose (see above): "" (none run), "run" (it
   // sides with the run), "companion" (with the companion), "neither", or
   // "failed: ..." (it did not finish: the companion's estimate stands).
