@@ -204,7 +204,7 @@ void arbitrate(const Scene& scene, const SolveOutcome& run, const Scene& tight, 
                                       ? tight.formulation.coordinates == coordinates &&
                                             tight.formulation.equations == Equations::Euler &&
                                             tight.formulation.scheme == scheme
-                                      : coordinates == Coordinates::Quaternion && scheme == "ggl";
+                                      : e.companion_combination == e.arbiter_combination;
     if (companion_itself) continue;
     std::string failed;
     SolveOutcome a;
@@ -291,23 +291,31 @@ ErrorEstimate estimate_global_error(const Scene& scene, const SolveOutcome& run,
   // The run's own combination can fail at rtol/100 where a better-posed one
   // does not (index3 at rtol 1e-11 fails its first Newton iterations on the
   // slider mechanism): the same motion in quaternion/euler/ggl on IDA, the
-  // reference formulation, is as good a companion. Not after a signal.
-  const bool is_fallback = tight.formulation.coordinates == Coordinates::Quaternion &&
-                           tight.formulation.equations == Equations::Euler && tight.formulation.scheme == "ggl" &&
-                           tight.solver.integrator == "ida";
-  if (!failed.empty() && !is_fallback && t.run.status != RunStatus::Interrupted && !g_interrupt_requested.load()) {
+  // reference formulation, is as good a companion. At a singular pose ggl's
+  // Newton iteration can fail too (and ARKODE's steps collapse): then
+  // linear/euler/index2 and linear/euler/projection on IDA, which pass the
+  // poses (a companion that changes branch there says so by its own branch
+  // check, and the arbiter below takes over). Not after a signal.
+  const std::pair<Coordinates, std::string> fallbacks[] = {
+      {Coordinates::Quaternion, "ggl"}, {Coordinates::Linear, "index2"}, {Coordinates::Linear, "projection"}};
+  const std::string first = failed;
+  for (const auto& [coordinates, scheme] : fallbacks) {
+    if (failed.empty() || t.run.status == RunStatus::Interrupted || g_interrupt_requested.load()) break;
+    if (tight.formulation.coordinates == coordinates && tight.formulation.equations == Equations::Euler &&
+        tight.formulation.scheme == scheme && tight.solver.integrator == "ida")
+      continue;  // the run's own combination
     Scene fallback = tight;
-    fallback.formulation.coordinates = Coordinates::Quaternion;
+    fallback.formulation.coordinates = coordinates;
     fallback.formulation.equations = Equations::Euler;
-    fallback.formulation.scheme = "ggl";
+    fallback.formulation.scheme = scheme;
     fallback.solver.integrator = "ida";
     std::error_code ec;
     std::filesystem::remove_all(e.tight_dir, ec);
-    const std::string first = failed;
-    failed = run_companion(fallback, t);
-    e.companion_combination = "quaternion/euler/ggl";
+    const std::string combination = fmt::format("{}/euler/{}", to_string(coordinates), scheme);
+    const std::string why = run_companion(fallback, t);
+    e.companion_combination = combination;
     e.companion_note = fmt::format("the run's own combination at rtol {:g}, atol {:g} {}", e.rtol, e.atol, first);
-    if (!failed.empty()) failed = first + "; so did quaternion/euler/ggl, which " + failed;
+    failed = why.empty() ? "" : failed + "; so did " + combination + ", which " + why;
   }
   if (!failed.empty())
     return not_estimated(fmt::format("the companion run at rtol {:g}, atol {:g} {}", e.rtol, e.atol, failed));

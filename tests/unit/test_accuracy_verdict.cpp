@@ -249,6 +249,33 @@ TEST_CASE("verdict: arbiters that fail or switch branch at a singular pose are p
   }
 }
 
+// ARKODE's quaternion/lagrange/index1 at rtol 1e-10 steps over both poses
+// (steps of ~0.05 s) and ends 9.3e-6 rad off the closed form; its companion
+// at 1e-12 collapses at the second pose and quaternion/euler/ggl fails its
+// Newton iteration at the first. Before the linear/euler fallbacks the
+// verdict was "not estimated" and the run carried no warning.
+TEST_CASE("verdict: companions that fail at a singular pose are followed by the linear/euler fallbacks") {
+  const fs::path out = rigidae::test::fresh_temp_dir("verdict_fallbacks");
+  const auto r = rigidae::test::run_cli("solve " + std::string(RIGIDAE_SOURCE_DIR) +
+                                        "/problems/singular_linkage.toml --coordinates quaternion --equations lagrange "
+                                        "--scheme index1 --integrator arkode-erk --rtol 1e-10 --atol 1e-10 "
+                                        "--error-estimate -q --out " + out.string());
+  REQUIRE(r.exit_code == 0);
+  const double off = off_parallelogram(read_trajectory_csv(out / "trajectory.csv"));
+  CHECK(off > 1e3 * 1e-10);  // far off, on the parallelogram branch all the same
+  CHECK(off < 1e-3);
+  const nlohmann::json summary = read_json(out / "summary.json");
+  const nlohmann::json& e = summary["error_estimate"];
+  CAPTURE(e.dump());
+  CHECK(e["status"] == "estimated");
+  const std::string companion = e["companion"]["combination"].get<std::string>();
+  CHECK(companion.rfind("linear/euler/", 0) == 0);
+  CHECK(e["companion"]["note"].get<std::string>().find("did not finish") != std::string::npos);
+  bool verdict_warned = false;
+  for (const auto& w : summary["warnings"]) verdict_warned |= w["quantity"] == "orientation_error";
+  CHECK(verdict_warned);
+}
+
 // The verdict's own logic: an arbiter that agrees with the companion after a
 // singular pose says the run switched branch; the run's singular_pose
 // warning stays beside the verdict's.

@@ -51,7 +51,9 @@
 // When the run's own combination fails at the tight tolerances (index3 at
 // rtol 1e-11 can fail its first Newton iterations), the same motion in
 // quaternion/euler/ggl on IDA is the companion instead: any well-posed
-// formulation converges to the same solution. If that fails too, or the
+// formulation converges to the same solution; then linear/euler/index2 and
+// linear/euler/projection on IDA (ggl's Newton iteration can fail at a
+// singular pose, these pass it). If they all fail, or the
 // companion stalls (its wall-time limit: max(30 s, 20 x the run's), each
 // attempt), is interrupted or writes another grid, there is no verdict: the
 // estimate is "not estimated" with the reason, never a pass.
