@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <iterator>
 #include <cmath>
 #include <fstream>
 #include <tuple>
@@ -173,45 +174,64 @@ bool within(const ErrorEstimate& d, double limit) {
   return d.orientation.max <= limit && !(d.position_rel_max > limit);
 }
 
+// The Euler-form combinations on IDA that stand in for a companion that
+// failed, and arbitrate after a singular pose, in the order tried: ggl (the
+// reference formulation), then index2 and projection in linear coordinates,
+// which pass singular poses where ggl's Newton iteration fails on the
+// singular saddle-point matrix (on their branch or not as the step sequence
+// falls: their own branch check says which).
+struct StandIn {
+  Coordinates coordinates;
+  const char* scheme;
+};
+const StandIn kStandIns[] = {
+    {Coordinates::Quaternion, "ggl"}, {Coordinates::Linear, "index2"}, {Coordinates::Linear, "projection"}};
+
+std::string combination_name(const StandIn& c) {
+  return fmt::format("{}/euler/{}", to_string(c.coordinates), c.scheme);
+}
+
+bool same_formulation(const Scene& s, const StandIn& c) {
+  return s.formulation.coordinates == c.coordinates && s.formulation.equations == Equations::Euler &&
+         s.formulation.scheme == c.scheme;
+}
+
+bool runs_as(const Scene& s, const StandIn& c) { return same_formulation(s, c) && s.solver.integrator == "ida"; }
+
+Scene as_stand_in(const Scene& tight, const StandIn& c) {
+  Scene s = tight;
+  s.formulation.coordinates = c.coordinates;
+  s.formulation.equations = Equations::Euler;
+  s.formulation.scheme = c.scheme;
+  s.solver.integrator = "ida";
+  return s;
+}
+
 // The arbiter after a singular pose (error_estimate.hpp, "Branch check"):
 // `tight` is the companion's scene (its tolerances and limits); e.tight_dir
-// holds its run. The candidates in turn, the first that reaches the end
-// without a branch switch of its own deciding: ggl in other coordinates than
-// the companion's, then index2 and projection in linear coordinates (ggl's
-// Newton iteration fails on the singular saddle-point matrix at some poses;
-// the others pass them, on their branch or not as the step sequence falls,
-// and their own branch check says which: on singular_linkage at rtol 1e-11
-// linear/euler/index2 switches, linear/euler/projection keeps it).
+// holds its run. The stand-ins in turn, ggl in other coordinates than the
+// companion's first, the first that reaches the end without a branch switch
+// of its own deciding (on singular_linkage at rtol 1e-11 linear/euler/index2
+// switches, linear/euler/projection keeps it).
 void arbitrate(const Scene& scene, const SolveOutcome& run, const Scene& tight, ErrorEstimate& e) {
-  const bool companion_linear = tight.formulation.coordinates == Coordinates::Linear &&
-                                tight.formulation.equations == Equations::Euler && tight.formulation.scheme == "ggl" &&
-                                e.companion_combination.empty();
-  const std::pair<Coordinates, std::string> candidates[] = {
-      {companion_linear ? Coordinates::Quaternion : Coordinates::Linear, "ggl"},
-      {Coordinates::Linear, "index2"},
-      {Coordinates::Linear, "projection"},
-  };
+  const StandIn linear_ggl{Coordinates::Linear, "ggl"};
+  StandIn candidates[std::size(kStandIns)];
+  std::copy(std::begin(kStandIns), std::end(kStandIns), candidates);
+  if (!(e.companion_combination.empty() && same_formulation(tight, linear_ggl))) candidates[0] = linear_ggl;
   const std::filesystem::path dir = run.out_dir / "error_estimate_arbiter";
   std::string failures;
-  for (const auto& [coordinates, scheme] : candidates) {
-    Scene arbiter = tight;
-    arbiter.formulation.coordinates = coordinates;
-    arbiter.formulation.equations = Equations::Euler;
-    arbiter.formulation.scheme = scheme;
-    arbiter.solver.integrator = "ida";
-    e.arbiter_combination = fmt::format("{}/euler/{}", to_string(coordinates), scheme);
-    const bool companion_itself = e.companion_combination.empty()
-                                      ? tight.formulation.coordinates == coordinates &&
-                                            tight.formulation.equations == Equations::Euler &&
-                                            tight.formulation.scheme == scheme
-                                      : e.companion_combination == e.arbiter_combination;
+  for (const StandIn& candidate : candidates) {
+    e.arbiter_combination = combination_name(candidate);
+    // The companion's own combination, on any integrator, is no arbiter.
+    const bool companion_itself = e.companion_combination.empty() ? same_formulation(tight, candidate)
+                                                                  : e.companion_combination == e.arbiter_combination;
     if (companion_itself) continue;
     std::string failed;
     SolveOutcome a;
     std::error_code ec;
     std::filesystem::remove_all(dir, ec);  // an earlier candidate's files
     try {
-      a = solve_scene(arbiter, dir);
+      a = solve_scene(as_stand_in(tight, candidate), dir);
       e.companion_wall_s += a.wall_seconds;
       if (a.run.status != RunStatus::Success)
         failed = status_text(a);
@@ -292,27 +312,18 @@ ErrorEstimate estimate_global_error(const Scene& scene, const SolveOutcome& run,
   // does not (index3 at rtol 1e-11 fails its first Newton iterations on the
   // slider mechanism): the same motion in quaternion/euler/ggl on IDA, the
   // reference formulation, is as good a companion. At a singular pose ggl's
-  // Newton iteration can fail too (and ARKODE's steps collapse): then
-  // linear/euler/index2 and linear/euler/projection on IDA, which pass the
-  // poses (a companion that changes branch there says so by its own branch
-  // check, and the arbiter below takes over). Not after a signal.
-  const std::pair<Coordinates, std::string> fallbacks[] = {
-      {Coordinates::Quaternion, "ggl"}, {Coordinates::Linear, "index2"}, {Coordinates::Linear, "projection"}};
+  // Newton iteration can fail too (and ARKODE's steps collapse): then the
+  // other stand-ins, which pass the poses (a companion that changes branch
+  // there says so by its own branch check, and the arbiter below takes
+  // over). Not after a signal.
   const std::string first = failed;
-  for (const auto& [coordinates, scheme] : fallbacks) {
+  for (const StandIn& stand_in : kStandIns) {
     if (failed.empty() || t.run.status == RunStatus::Interrupted || g_interrupt_requested.load()) break;
-    if (tight.formulation.coordinates == coordinates && tight.formulation.equations == Equations::Euler &&
-        tight.formulation.scheme == scheme && tight.solver.integrator == "ida")
-      continue;  // the run's own combination
-    Scene fallback = tight;
-    fallback.formulation.coordinates = coordinates;
-    fallback.formulation.equations = Equations::Euler;
-    fallback.formulation.scheme = scheme;
-    fallback.solver.integrator = "ida";
+    if (runs_as(tight, stand_in)) continue;  // the run's own combination
     std::error_code ec;
     std::filesystem::remove_all(e.tight_dir, ec);
-    const std::string combination = fmt::format("{}/euler/{}", to_string(coordinates), scheme);
-    const std::string why = run_companion(fallback, t);
+    const std::string combination = combination_name(stand_in);
+    const std::string why = run_companion(as_stand_in(tight, stand_in), t);
     e.companion_combination = combination;
     e.companion_note = fmt::format("the run's own combination at rtol {:g}, atol {:g} {}", e.rtol, e.atol, first);
     failed = why.empty() ? "" : failed + "; so did " + combination + ", which " + why;

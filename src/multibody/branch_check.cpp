@@ -94,14 +94,7 @@ void MultibodyProblem::check_branch(double t, const double* y, const double* yp)
     SingularPose& sp = singular_poses_.back();
     sp.velocity_jump = std::isnan(sp.velocity_jump) ? jump : std::max(sp.velocity_jump, jump);
     sp.branch_switch = sp.branch_switch || switched;
-    if (switched) {
-      EventNote note;
-      note.t = t;
-      note.what = "branch_switch";
-      note.body = sp.joints;
-      note.margin = jump;
-      events_.push_back(note);
-    }
+    if (switched) events_.push_back(EventNote::at_joints(t, "branch_switch", sp.joints, jump));
   }
   w.inside = false;
   w.valid = true;

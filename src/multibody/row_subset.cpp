@@ -306,12 +306,7 @@ void MultibodyProblem::watch_singular_pose(double t, const SparseL& Gt, const st
   sp.condition = relative;
   for (int j : joints) sp.joints += (sp.joints.empty() ? "" : " ") + spec_.joints[j].name;
   singular_poses_.push_back(sp);
-  EventNote note;
-  note.t = t;
-  note.what = "singular_pose";
-  note.body = sp.joints;
-  note.margin = relative;
-  events_.push_back(note);
+  events_.push_back(EventNote::at_joints(t, "singular_pose", sp.joints, relative));
 }
 
 }  // namespace rigidae::multibody

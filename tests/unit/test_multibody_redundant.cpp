@@ -223,7 +223,7 @@ TEST_CASE("redundant: a loop that cannot close is still a positioned error, in p
   const int line = static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(joint_d), '\n'));
   // D's point on the ground moved: in the plane (a kept row misses) and out
   // of it (only D.y, a row set aside, misses).
-  for (const Vec3 moved : {Vec3(1e-3, 0, 0), Vec3(0, 1e-3, 0)}) {
+  for (const Vec3& moved : {Vec3(1e-3, 0, 0), Vec3(0, 1e-3, 0)}) {
     CAPTURE(moved.transpose());
     Scene s = io::parse_scene(text, "fb.toml");
     REQUIRE(s.multibody->joints[3].body_b == kGround);

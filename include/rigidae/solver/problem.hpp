@@ -20,6 +20,7 @@
 // within each column, built once.
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -76,6 +77,15 @@ struct EventNote {
     e.what = "projection";
     e.drift_position = drift_position;
     e.drift_velocity = drift_velocity;
+    return e;
+  }
+  // A mechanism event at t (singular_pose, branch_switch) at the joints named.
+  static EventNote at_joints(double t, std::string what, std::string joints, double margin) {
+    EventNote e;
+    e.t = t;
+    e.what = std::move(what);
+    e.body = std::move(joints);
+    e.margin = margin;
     return e;
   }
 };
