@@ -144,8 +144,9 @@ void add_singular_pose_warning(const multibody::MultibodyProblem& problem, Solve
     w.message = fmt::format(
         "the run changed assembly branch at {} singular pose(s) (first at t = {:.9g} s, joints {}): its velocity "
         "jumped by {:.3g} of its size across the pose (limit {}), an impulse no applied force explains, so the "
-        "motion after it follows another branch than the one it arrived on (events.csv: branch_switch); a "
-        "tighter tolerance or an index-3 scheme may keep the branch",
+        "motion after it follows another branch than the one it arrived on (events.csv: branch_switch); the "
+        "bridge across singular poses ([mechanism] singular_poses = \"bridge\", the default, on IDA) keeps the "
+        "branch, and so may a tighter tolerance or an index-3 scheme",
         n_switched, switched->t, switched->joints, switched->velocity_jump, multibody::kBranchJump);
     o.warnings.push_back(w);
   }

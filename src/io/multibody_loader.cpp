@@ -52,7 +52,8 @@ constexpr std::array<std::string_view, 18> kRootKeys{
     "springs",        "loads",   "gravity",     "time",            "output",      "formulation", "solver",
     "expected_dof",   "mechanism", "drivers", "markers"};
 constexpr std::array<std::string_view, 4> kMarkerKeys{"name", "body", "point", "frame"};
-constexpr std::array<std::string_view, 3> kMechanismKeys{"expected_dof", "assemble", "hold"};
+constexpr std::array<std::string_view, 4> kMechanismKeys{"expected_dof", "assemble", "hold", "singular_poses"};
+constexpr std::array<std::string_view, 2> kSingularPoseModes{"bridge", "integrate"};
 constexpr std::array<std::string_view, 17> kBodyKeys{
     "name",     "mass",  "inertia_principal", "inertia",    "inertia_axes", "position",         "quaternion",
     "euler",    "matrix", "axis_angle",       "velocity",   "angular_velocity", "angular_velocity_frame",
@@ -571,6 +572,10 @@ class MultibodyReader {
       r_.check_keys(*t, "mechanism", kMechanismKeys, sections());
       in_table = t->get("expected_dof");
       read_assembly(*t, spec);
+      // singular_poses = "bridge" (default) or "integrate": how a run passes
+      // a pose where the rows lose rank (multibody/pose_bridge.cpp).
+      if (const toml::node* sp = t->get("singular_poses"))
+        spec.bridge_singular_poses = r_.choice(*sp, "mechanism.singular_poses", kSingularPoseModes) == 0;
       if (top && in_table)
         r_.fail(*in_table, fmt::format("expected_dof is given twice: at the top level (line {}) and in [mechanism]; "
                                        "keep one",

@@ -344,6 +344,10 @@ void MultibodyProblem::make_consistent(double t, Eigen::VectorXd& y, Eigen::Vect
 
 void MultibodyProblem::start(const Scene& scene) {
   const double t0 = scene.time.start;
+  bridge_.enabled = spec_.bridge_singular_poses;
+  bridge_.t_end = scene.time.end;
+  bridge_.rtol = scene.solver.rtol;
+  bridge_.atol = scene.solver.atol;
   y0_.setZero(n_);
   physical_start(y0_);
   // A start error about one row, in the loaders' form "FILE:LINE:COL: error:
@@ -428,6 +432,15 @@ void MultibodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
   near_singular_ = false;
   start_condition_ = -1.0;
   branch_ = BranchWatch{};
+  {
+    PoseBridge fresh;
+    fresh.enabled = bridge_.enabled;
+    fresh.t_end = bridge_.t_end;
+    fresh.rtol = bridge_.rtol;
+    fresh.atol = bridge_.atol;
+    bridge_ = std::move(fresh);
+    if (bridge_.enabled) bridge_after_step(t0, y, yp);  // the start: the first node
+  }
   if (!redundancy_.dropped.empty()) {
     for (ConstraintBlock& b : blocks_)
       if (!b.internal) std::fill(b.active.begin(), b.active.end(), 1);

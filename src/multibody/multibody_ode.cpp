@@ -72,6 +72,7 @@ class KluSaddle {
 MultibodyOde::MultibodyOde(MultibodyProblem& problem, bool sparse, const std::string& where, bool small_dense,
                            bool by_body)
     : problem_(problem) {
+  problem_.set_bridging(false);  // the ODE drivers do not bridge singular poses yet
   n_ = problem.size();
   n_state_ = problem.state_size();
   for (const ConstraintBlock& blk : problem.blocks())

@@ -284,13 +284,22 @@ void MultibodyProblem::watch_singular_pose(double t, const SparseL& Gt, const st
   const double ratio = d(r - 1) / std::max(d(0), 1e-300);
   if (start_condition_ < 0.0) start_condition_ = ratio;  // the first check: the start's
   const double relative = ratio / std::max(start_condition_, 1e-300);
+  // A bridge across the pose ahead (pose_bridge.cpp) notes the pose now,
+  // before the watch's own threshold is reached.
+  const bool bridge_now = bridge_.enabled && plan_bridge(t, relative);
+  if (near_singular_ && bridge_now && !singular_poses_.empty()) {
+    near_singular_ = false;  // noted at the last step, bridged from this one
+    singular_poses_.back().t = bridge_.pose_t;
+    singular_poses_.back().condition = std::min(singular_poses_.back().condition, relative);
+    return;
+  }
   if (near_singular_) {
     if (relative > 2.0 * kSingularCondition) near_singular_ = false;  // left it behind
     if (!singular_poses_.empty()) singular_poses_.back().condition = std::min(singular_poses_.back().condition, relative);
     return;
   }
-  if (relative >= kSingularCondition) return;
-  near_singular_ = true;
+  if (relative >= kSingularCondition && !bridge_now) return;
+  near_singular_ = !bridge_now;
   // The joints in the near-dependency: the right singular vector of S G^T of
   // its r-th singular value (the combination of rows that nearly vanishes
   // beyond the start's dependencies).
@@ -302,11 +311,11 @@ void MultibodyProblem::watch_singular_pose(double t, const SparseL& Gt, const st
   std::sort(joints.begin(), joints.end());
   joints.erase(std::unique(joints.begin(), joints.end()), joints.end());
   SingularPose sp;
-  sp.t = t;
+  sp.t = bridge_now ? bridge_.pose_t : t;
   sp.condition = relative;
   for (int j : joints) sp.joints += (sp.joints.empty() ? "" : " ") + spec_.joints[j].name;
   singular_poses_.push_back(sp);
-  events_.push_back(EventNote::at_joints(t, "singular_pose", sp.joints, relative));
+  events_.push_back(EventNote::at_joints(sp.t, "singular_pose", sp.joints, relative));
 }
 
 }  // namespace rigidae::multibody

@@ -114,6 +114,16 @@ StepAction MultibodyProblem::after_step(double t, double h, Eigen::VectorXd& y, 
       a = StepAction::restart_after_projection(h);
     }
   }
+  // Last, on the state as the step leaves it: the bridge across a singular
+  // pose ahead (pose_bridge.cpp), which restarts the integrator beyond it.
+  if (bridge_.enabled) {
+    const double landing = bridge_after_step(t, y, yp);
+    if (landing > t) {
+      a = StepAction{};
+      a.kind = StepAction::Kind::Restart;
+      a.bridge_to = landing;
+    }
+  }
   return a;
 }
 

@@ -226,14 +226,22 @@ void MechanismColumns::add_summary(nlohmann::json& j, const RunExtremes& /*x*/) 
   nlohmann::json now = nlohmann::json::array(), poses = nlohmann::json::array();
   for (const multibody::RedundantRow& d : problem_.set_aside())
     now.push_back({{"joint", spec.joints[d.joint].name}, {"row", d.row}});
-  for (const multibody::SingularPose& sp : problem_.singular_poses())
-    poses.push_back({{"t", sp.t},
-                     {"joints", sp.joints},
-                     {"condition", sp.condition},
-                     // the branch check (branch_check.cpp); null: the run ended inside the pose
-                     {"velocity_jump", std::isnan(sp.velocity_jump) ? nlohmann::json() : nlohmann::json(sp.velocity_jump)},
-                     {"branch_switch", sp.branch_switch}});
-  j["row_subset"] = {{"changes", problem_.subset_changes()},
+  for (const multibody::SingularPose& sp : problem_.singular_poses()) {
+    nlohmann::json pose = {
+        {"t", sp.t},
+        {"joints", sp.joints},
+        {"condition", sp.condition},
+        // the branch check (branch_check.cpp); null: the run ended inside the pose
+        {"velocity_jump", std::isnan(sp.velocity_jump) ? nlohmann::json() : nlohmann::json(sp.velocity_jump)},
+        {"branch_switch", sp.branch_switch}};
+    // Crossed by a bridge (multibody/pose_bridge.cpp): from, to, and the
+    // extrapolation's estimate in units of the tolerance.
+    if (sp.bridged)
+      pose["bridge"] = {{"from_t", sp.bridged_from}, {"to_t", sp.bridged_to}, {"estimate_tolerances", sp.estimate}};
+    poses.push_back(pose);
+  }
+  j["row_subset"] = {{"singular_poses_mode", problem_.bridges_singular_poses() ? "bridge" : "integrate"},
+                     {"changes", problem_.subset_changes()},
                      {"largest_dependency", problem_.largest_dependency()},
                      {"largest_amplification", problem_.largest_amplification()},
                      {"set_aside_at_end", now},

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
@@ -350,6 +351,11 @@ class IdaRun {
   void apply(const StepAction& action);
   // Hands (y, y') at t back to IDA as a new start with first step h0.
   void restart(double h0);
+  // The problem bridged (t, t_landing]: the output grid inside from its
+  // bridged states, the landing recorded as a step of order 0.
+  void land_bridge(double t_landing);
+  // IDA's stop time: the problem's hint (a singular pose ahead) or the end.
+  void follow_stop_hint();
   // Output-grid points up to t, interpolated from IDA's last step.
   void emit_grid_until(double t);
   void forward_events();
@@ -378,6 +384,7 @@ class IdaRun {
   int flag_ = 0;                // of the last IDASolve
   long steps_total_ = 0;
   IdaCounters before_restart_;  // counters of the segments before the last IDAReInit
+  double stop_time_ = 0.0;      // IDA's stop time as last set
   bool stopped_ = false;
   StallWatch stall_;  // accepted steps below the step-size floor
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
@@ -416,6 +423,7 @@ void IdaRun::start() {
   if (opt_.jacobian != "ida_dq") check(IDASetJacFn(mem, jacobian_callback), "IDASetJacFn");
   check(IDASetMaxOrd(mem, opt_.max_order), "IDASetMaxOrd");
   check(IDASetStopTime(mem, span_.end), "IDASetStopTime");
+  stop_time_ = span_.end;
   const double h0 = opt_.initial_step > 0 ? opt_.initial_step
                                           : first_step_estimate(problem_, t_, y_, yp_, opt_, span_.end - span_.start);
   check(IDASetInitStep(mem, h0), "IDASetInitStep");
@@ -480,6 +488,7 @@ void IdaRun::handle_event() {
   y_ = y_ida_;
   yp_ = yp_ida_;
   apply(problem_.on_event(t_, last_step(), y_, yp_));
+  if (!stopped_) follow_stop_hint();
 }
 
 void IdaRun::after_step() {
@@ -499,7 +508,34 @@ void IdaRun::after_step() {
   if (t_ < span_.end) {
     yp_ = yp_ida_;
     apply(problem_.after_step(t_, h, y_, yp_));
+    if (!stopped_) follow_stop_hint();
   }
+}
+
+void IdaRun::follow_stop_hint() {
+  const double hint = problem_.stop_time_hint();
+  const double stop = hint > t_ && hint < span_.end ? hint : span_.end;
+  // IDA forgets its stop time once it returns there (IDA_TSTOP_RETURN) and
+  // keeps it across IDAReInit: set again when it was reached or changes.
+  if (stop == stop_time_ && flag_ != IDA_TSTOP_RETURN) return;
+  check(IDASetStopTime(ida_.mem, stop), "IDASetStopTime");
+  stop_time_ = stop;
+}
+
+void IdaRun::land_bridge(double t_landing) {
+  const bool every = sink_.needs_every_output();
+  while (next_out_ < grid_.size() && grid_[next_out_] <= t_landing) {
+    if (!every && next_out_ + 1 < grid_.size()) {
+      ++next_out_;
+      continue;
+    }
+    problem_.bridged_state(grid_[next_out_], yout_);
+    sink_.on_output(grid_[next_out_], yout_);
+    ++next_out_;
+  }
+  const double h = t_landing - t_;
+  t_ = t_landing;
+  sink_.on_step(t_, h, 0, y_);
 }
 
 void IdaRun::apply(const StepAction& action) {
@@ -507,6 +543,7 @@ void IdaRun::apply(const StepAction& action) {
     case StepAction::Kind::Continue: break;
     case StepAction::Kind::Fail: fail(action.message); break;
     case StepAction::Kind::Restart:
+      if (action.bridge_to > t_) land_bridge(action.bridge_to);
       // IDA keeps no memory across the restart: the order and the history
       // are lost; the problem says whether the step size is carried over.
       restart(action.restart_step > 0
@@ -524,6 +561,7 @@ void IdaRun::restart(double h0) {
   add_counters(ida_.mem, before_restart_);
   check(IDAReInit(ida_.mem, t_, ida_.y, ida_.yp), "IDAReInit");
   check(IDASetInitStep(ida_.mem, h0), "IDASetInitStep");
+  stop_time_ = std::numeric_limits<double>::quiet_NaN();  // set again after the restart
   ++before_restart_.restarts;
 }
 

@@ -135,6 +135,21 @@ TEST_CASE("verdict: the branch check names a companion on another motion") {
   CHECK(e.warnings.empty());
 }
 
+// problems/singular_linkage.toml with [mechanism] singular_poses =
+// "integrate", written into a fresh folder: the integrator passes the
+// collinear poses on its own and may change branch there, which is what the
+// arbiter's tests need (with the default bridge, IDA's runs keep the branch).
+std::string integrating_linkage(const std::string& name) {
+  std::string text = rigidae::test::read_file(std::string(RIGIDAE_SOURCE_DIR) + "/problems/singular_linkage.toml");
+  const std::string key = "expected_dof = 1\n";
+  const std::size_t at = text.find(key);
+  REQUIRE(at != std::string::npos);
+  text.insert(at + key.size(), "singular_poses = \"integrate\"\n");
+  const fs::path file = rigidae::test::fresh_temp_dir(name + "_scene") / "singular_linkage.toml";
+  std::ofstream(file) << text;
+  return file.string();
+}
+
 // The largest rotation angle of a singular_linkage run's bodies from the
 // closed form in the scene's header: theta = pi/3 + 2 pi t; crank and
 // rocker turned about y by -theta, the coupler not turned.
@@ -157,8 +172,8 @@ double off_parallelogram(const BodyGrid& g) {
 // suggests" about a right run; it now says which it cannot tell.
 TEST_CASE("verdict: after a singular pose a disagreeing companion is a branch question, not the run's error") {
   const fs::path out = rigidae::test::fresh_temp_dir("verdict_singular");
-  const auto r = rigidae::test::run_cli("solve " + std::string(RIGIDAE_SOURCE_DIR) +
-                                        "/problems/singular_linkage.toml --coordinates euler --equations lagrange "
+  const auto r = rigidae::test::run_cli("solve " + integrating_linkage("verdict_singular") +
+                                        " --coordinates euler --equations lagrange "
                                         "--scheme index1 --rtol 1e-7 --atol 1e-7 --error-estimate -q --out " +
                                         out.string());
   REQUIRE(r.exit_code == 0);
@@ -195,8 +210,8 @@ TEST_CASE("verdict: after a singular pose a disagreeing companion is a branch qu
 // matches the closed form's error, and no verdict warning is given.
 TEST_CASE("verdict: after a singular pose an arbiter that sides with the run makes the estimate") {
   const fs::path out = rigidae::test::fresh_temp_dir("verdict_arbiter");
-  const auto r = rigidae::test::run_cli("solve " + std::string(RIGIDAE_SOURCE_DIR) +
-                                        "/problems/singular_linkage.toml --coordinates quaternion --equations euler "
+  const auto r = rigidae::test::run_cli("solve " + integrating_linkage("verdict_arbiter") +
+                                        " --coordinates quaternion --equations euler "
                                         "--scheme index2 --rtol 1e-4 --atol 1e-4 --error-estimate -q --out " +
                                         out.string());
   REQUIRE(r.exit_code == 0);
@@ -228,8 +243,8 @@ TEST_CASE("verdict: after a singular pose an arbiter that sides with the run mak
 // before the fallbacks, the verdict warned 1.7 rad about a run 2.2e-8 rad off).
 TEST_CASE("verdict: arbiters that fail or switch branch at a singular pose are passed over") {
   const fs::path out = rigidae::test::fresh_temp_dir("verdict_arbiter_index2");
-  const auto r = rigidae::test::run_cli("solve " + std::string(RIGIDAE_SOURCE_DIR) +
-                                        "/problems/singular_linkage.toml --coordinates quaternion --equations lagrange "
+  const auto r = rigidae::test::run_cli("solve " + integrating_linkage("verdict_arbiter_index2") +
+                                        " --coordinates quaternion --equations lagrange "
                                         "--scheme baumgarte --integrator ida --rtol 1e-9 --atol 1e-9 --error-estimate "
                                         "-q --out " + out.string());
   REQUIRE(r.exit_code == 0);
@@ -247,6 +262,37 @@ TEST_CASE("verdict: arbiters that fail or switch branch at a singular pose are p
     CHECK(w["quantity"] != "position_error");
     CHECK(w["quantity"] != "branch_switch");
   }
+}
+
+// With the bridge (the default), the run of the test above and its
+// companion keep the parallelogram branch through both poses: no arbiter,
+// and the companion's estimate is the run's error against the closed form.
+TEST_CASE("verdict: with the bridge across singular poses the companion keeps the branch and estimates the error") {
+  const fs::path out = rigidae::test::fresh_temp_dir("verdict_bridged");
+  const auto r = rigidae::test::run_cli("solve " + std::string(RIGIDAE_SOURCE_DIR) +
+                                        "/problems/singular_linkage.toml --coordinates quaternion --equations euler "
+                                        "--scheme index2 --integrator ida --rtol 1e-6 --atol 1e-6 --error-estimate -q "
+                                        "--out " + out.string());
+  REQUIRE(r.exit_code == 0);
+  const double off = off_parallelogram(read_trajectory_csv(out / "trajectory.csv"));
+  CHECK(off < 100 * 1e-6);
+  const nlohmann::json summary = read_json(out / "summary.json");
+  const nlohmann::json& poses = summary["row_subset"]["singular_poses"];
+  CHECK(summary["row_subset"]["singular_poses_mode"] == "bridge");
+  REQUIRE(poses.size() == 2);
+  for (const auto& p : poses) {
+    CHECK(p["bridge"].is_object());
+    CHECK(p["branch_switch"] == false);
+  }
+  const nlohmann::json& e = summary["error_estimate"];
+  CAPTURE(e.dump());
+  CHECK(e["status"] == "estimated");
+  CHECK(e["arbiter"].is_null());
+  CHECK_FALSE(e["branch_disagreement"].get<bool>());
+  // The companion's difference is the run's error, within a factor 2.
+  const double estimate = e["orientation"]["max_orientation_rad"].get<double>();
+  CHECK(estimate > 0.5 * off);
+  CHECK(estimate < 2.0 * off);
 }
 
 // ARKODE's quaternion/lagrange/index1 at rtol 1e-10 steps over both poses

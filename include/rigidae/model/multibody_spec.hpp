@@ -178,6 +178,11 @@ struct MultibodySpec {
   std::optional<int> expected_dof;
   SourcePosition expected_dof_where;
   AssemblySpec assembly;
+  // [mechanism] singular_poses: "bridge" (true, the default) crosses a pose
+  // where the rows lose rank by extrapolation and projection onto the
+  // branch arrived on; "integrate" leaves it to the integrator
+  // (multibody/pose_bridge.cpp).
+  bool bridge_singular_poses = true;
   // Set by one_body_system(): the system is a one-body scene, whose records
   // keep the single-body files' columns (record/run_columns.hpp).
   bool one_body_scene = false;

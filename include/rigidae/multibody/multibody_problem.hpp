@@ -178,6 +178,11 @@ struct SingularPose {
   // 0.1 the run changed assembly branch there.
   double velocity_jump = std::numeric_limits<double>::quiet_NaN();
   bool branch_switch = false;
+  // Crossed by a bridge (pose_bridge.cpp), from bridged_from to bridged_to
+  // (s); estimate: the extrapolation's error estimate in units of the
+  // tolerance (max over the state of |difference| / (rtol |y| + atol)).
+  bool bridged = false;
+  double bridged_from = 0.0, bridged_to = 0.0, estimate = 0.0;
 };
 
 // The branch check's limit on the velocity's relative jump across a pose
@@ -193,6 +198,27 @@ struct BranchWatch {
   bool valid = false, inside = false;
   double t0 = 0.0;
   Eigen::VectorXd V0, A0, V1, A1, y_shift, scratch;
+};
+
+// What the bridge across singular poses keeps (pose_bridge.cpp): the last
+// accepted states, the conditioning's last samples, the stop time asked of
+// the integrator and the last bridge's interpolant.
+struct PoseBridge {
+  bool enabled = true;  // [mechanism] singular_poses = "bridge"
+  double t_end = std::numeric_limits<double>::infinity();
+  double rtol = 1e-8, atol = 1e-8;  // the scene's, for the estimate's units
+  std::vector<double> t;            // accepted states, oldest first
+  std::vector<Eigen::VectorXd> y, yp;
+  double t_last = std::numeric_limits<double>::quiet_NaN(), r_last = std::numeric_limits<double>::quiet_NaN();
+  double stop_hint = std::numeric_limits<double>::infinity();
+  bool pending = false;  // the last check asks for a bridge now
+  double pose_t = 0.0;   // the pose's time, estimated
+  // The last bridge: (from, to], its nodes and Hermite coefficients over the
+  // state, and the full y at both ends (the multipliers are interpolated).
+  double from = 0.0, to = 0.0;
+  std::vector<double> z;
+  std::vector<Eigen::VectorXd> c;
+  Eigen::VectorXd y_from, y_to;
 };
 
 class MultibodyProblem final : public DaeProblem {
@@ -219,6 +245,15 @@ class MultibodyProblem final : public DaeProblem {
   StepAction on_event(double t, double h, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
   StepAction after_step(double t, double h, Eigen::VectorXd& y, Eigen::VectorXd& yp) override;
   std::vector<EventNote> take_events() override;
+  // The bridge across singular poses (pose_bridge.cpp).
+  double stop_time_hint() const override { return bridge_.enabled ? bridge_.stop_hint : std::numeric_limits<double>::infinity(); }
+  void bridged_state(double t, Eigen::VectorXd& y) override;
+  // After an accepted step (IDA's y' or the ODE's right-hand side in yp):
+  // keeps the state for the extrapolation, and bridges the pose ahead when
+  // the conditioning's check asked for it. Returns the landing time, or 0.
+  double bridge_after_step(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp);
+  bool bridges_singular_poses() const { return bridge_.enabled; }
+  void set_bridging(bool on) { bridge_.enabled = on && spec_.bridge_singular_poses; }
   // The scheme and the joints whose rows lost rank (src/multibody/stall_report.cpp).
   std::string describe_stall(double t, const double* y) override;
 
@@ -272,6 +307,9 @@ class MultibodyProblem final : public DaeProblem {
   // The branch check after an accepted step (branch_check.cpp), and its
   // parts: per body v_c and omega in space; the kinetic-energy norm at y.
   void check_branch(double t, const double* y, const double* yp);
+  // The bridge's plan at a conditioning sample (pose_bridge.cpp): a stop
+  // time ahead of the pose, or a bridge now (true).
+  bool plan_bridge(double t, double relative);
   void body_velocities(const double* y, Eigen::VectorXd& V) const;
   double velocity_norm(const double* y, const Eigen::VectorXd& x) const;
   double multiplier_amplification(const Eigen::SparseMatrix<double, Eigen::ColMajor, long>& Gt,
@@ -513,6 +551,7 @@ class MultibodyProblem final : public DaeProblem {
   bool near_singular_ = false;     // inside a singular pose's neighbourhood (row_subset.cpp)
   double start_condition_ = -1.0;  // all the rows' R ratio at the start's rank, at the first check
   BranchWatch branch_;
+  PoseBridge bridge_;
   double subset_baseline_ = 1.0;
   double start_baseline_ = 1.0;  // the start's  // max |alpha| right after the last choice of the subset
   double largest_dependency_ = 0.0;

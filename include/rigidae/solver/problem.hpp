@@ -19,6 +19,7 @@
 // with 64-bit indices (SUNDIALS' sunindextype on Debian), rows ascending
 // within each column, built once.
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -46,6 +47,12 @@ struct StepAction {
   double restart_step = 0.0;  // first step after a restart; 0 = the integrator's own estimate
   std::string message;        // for Fail: why, in the user's words
   bool projected = false;     // the restart is a projection onto the constraints (counted)
+  // A bridge (a mechanism's singular pose): > t when the problem has moved
+  // the state from the accepted step at t to bridge_to without the
+  // integrator (y, y' are at bridge_to); the driver emits the output grid
+  // inside from bridged_state(), records the landing as a step of order 0
+  // and restarts there.
+  double bridge_to = 0.0;
 
   static StepAction proceed() { return {}; }
   // After a projection at a step of size h: IDA keeps no memory across the
@@ -146,6 +153,14 @@ class DaeProblem {
   virtual StepAction after_step(double /*t*/, double /*h*/, Eigen::VectorXd& /*y*/, Eigen::VectorXd& /*yp*/) {
     return {};
   }
+
+  // A time the next step must not pass (the approach to a mechanism's
+  // singular pose, which after_step then bridges); +inf: none. Read after
+  // every accepted step.
+  virtual double stop_time_hint() const { return std::numeric_limits<double>::infinity(); }
+  // Inside the last bridge (t, bridge_to]: the state at t (size()), for the
+  // output grid.
+  virtual void bridged_state(double /*t*/, Eigen::VectorXd& /*y*/) {}
 
   // Events that happened since the last call (chart switches, projections), oldest first.
   virtual std::vector<EventNote> take_events() { return {}; }
