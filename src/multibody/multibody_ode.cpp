@@ -72,7 +72,6 @@ class KluSaddle {
 MultibodyOde::MultibodyOde(MultibodyProblem& problem, bool sparse, const std::string& where, bool small_dense,
                            bool by_body)
     : problem_(problem) {
-  problem_.set_bridging(false);  // the ODE drivers do not bridge singular poses yet
   n_ = problem.size();
   n_state_ = problem.state_size();
   for (const ConstraintBlock& blk : problem.blocks())
@@ -335,6 +334,22 @@ void MultibodyOde::after_step(double t, const double* x) {
   if (problem_.watches_singular_poses() && rhs(t, x, xdot_scratch_.data())) xdot = xdot_scratch_.data();
   problem_.check_row_subset(t, y_drift_.data(), /*multipliers_in_y=*/false, xdot);
 }
+
+double MultibodyOde::stop_time_hint() const { return problem_.stop_time_hint(); }
+
+double MultibodyOde::bridge(double t, Eigen::VectorXd& x) {
+  if (by_body_ || !problem_.bridges_singular_poses() || !problem_.watches_singular_poses()) return 0.0;
+  // The DAE's layout: the state, no multipliers (the bridge recomputes its
+  // nodes' derivatives and the landing's multipliers itself).
+  y_big_.setZero(n_);
+  yp_big_.setZero(n_);
+  y_big_.head(n_state_) = x;
+  const double landing = problem_.bridge_after_step(t, y_big_, yp_big_);
+  if (landing > t) x = y_big_.head(n_state_);
+  return landing;
+}
+
+void MultibodyOde::bridged_observation(double t, Eigen::VectorXd& y) { problem_.bridged_state(t, y); }
 
 std::string MultibodyOde::describe_stall(double t, const double* x) {
   y_big_.setZero(n_);

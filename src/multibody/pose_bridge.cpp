@@ -184,7 +184,7 @@ double MultibodyProblem::bridge_after_step(double t, Eigen::VectorXd& y, Eigen::
 
   b.from = t;
   b.to = t2;
-  b.y_from = y;
+  b.y_from = node_y.back();  // this step's, its multipliers consistent (the ODE form's state has none)
   y.head(ns) = ys;
   yp.head(ns) = yps;
   const auto [drift_position, drift_velocity] = drift(t2, y.data());

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <exception>
+#include <limits>
 #include <memory>
 
 #include "ode_stepper.hpp"
@@ -151,11 +152,23 @@ RunResult integrate_ode(OdeProblem& problem, const SolverSettings& opt, const Ti
       ++next_out;
     }
   };
+  // The stop time as last set (NaN: set again): the end, or the problem's
+  // hint short of a singular pose, which the integrator forgets once there.
+  double stop_time = span.end;
+  auto follow_stop_hint = [&](double t_now) {
+    const double hint = problem.stop_time_hint();
+    const double stop = hint > t_now && hint < span.end ? hint : span.end;
+    if (stop == stop_time && t_now != stop_time) return;
+    stepper->set_stop_time(stop);
+    stop_time = stop;
+  };
+
   auto restart = [&](double t) {
     x_sun = x;
     stepper->add_counters(before_restart);
     stepper->reinit(t, vec.x);
     ++before_restart.restarts;
+    stop_time = std::numeric_limits<double>::quiet_NaN();
   };
 
   double t = span.start;
@@ -207,6 +220,7 @@ RunResult integrate_ode(OdeProblem& problem, const SolverSettings& opt, const Ti
       }
       forward_events(problem, result, sink, before_restart);
       if (a.kind == StepAction::Kind::Restart) restart(t);
+      follow_stop_hint(t);
       continue;
     }
     ++steps_total;
@@ -235,6 +249,27 @@ RunResult integrate_ode(OdeProblem& problem, const SolverSettings& opt, const Ti
         ++before_restart.projections;
         sink.on_event(projection_note(t, d));
       }
+    }
+    if (t < span.end) {
+      // A bridge across a singular pose ahead: the grid inside from the
+      // problem, the landing recorded as a step of order 0, a restart there.
+      const double landing = problem.bridge(t, x);
+      forward_events(problem, result, sink, before_restart);
+      if (landing > t) {
+        while (next_out < grid.size() && grid[next_out] <= landing) {
+          if (every_output || next_out + 1 == grid.size()) {
+            problem.bridged_observation(grid[next_out], y_obs);
+            sink.on_output(grid[next_out], y_obs);
+          }
+          ++next_out;
+        }
+        const double h_bridge = landing - t;
+        t = landing;
+        problem.observe(t, x.data(), y_obs);
+        sink.on_step(t, h_bridge, 0, y_obs);
+        restart(t);
+      }
+      follow_stop_hint(t);
     }
   }
 

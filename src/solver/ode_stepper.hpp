@@ -66,6 +66,8 @@ class Stepper {
   virtual int last_order() = 0;
   virtual double current_time() = 0;
   virtual void reinit(double t, N_Vector x) = 0;
+  // The time the integrator stops at (the end, or short of a singular pose).
+  virtual void set_stop_time(double t) = 0;
   virtual void add_counters(IdaCounters& c) = 0;
   // Whether a projection happens inside the step (the integrator's own
   // projection or post-step hook); else the loop projects after an
@@ -126,6 +128,7 @@ class SundialsStepper : public Stepper {
     Calls::current_time(mem_, &t);
     return t;
   }
+  void set_stop_time(double t) override { check(Calls::stop_time(mem_, t), Calls::kStopTime); }
 
  protected:
   // The tolerances, the callbacks' data and the stop time.

@@ -302,8 +302,8 @@ TEST_CASE("verdict: with the bridge across singular poses the companion keeps th
 // verdict was "not estimated" and the run carried no warning.
 TEST_CASE("verdict: companions that fail at a singular pose are followed by the linear/euler fallbacks") {
   const fs::path out = rigidae::test::fresh_temp_dir("verdict_fallbacks");
-  const auto r = rigidae::test::run_cli("solve " + std::string(RIGIDAE_SOURCE_DIR) +
-                                        "/problems/singular_linkage.toml --coordinates quaternion --equations lagrange "
+  const auto r = rigidae::test::run_cli("solve " + integrating_linkage("verdict_fallbacks") +
+                                        " --coordinates quaternion --equations lagrange "
                                         "--scheme index1 --integrator arkode-erk --rtol 1e-10 --atol 1e-10 "
                                         "--error-estimate -q --out " + out.string());
   REQUIRE(r.exit_code == 0);

@@ -111,6 +111,9 @@ class MultibodyOde final : public OdeProblem {
   void event_functions(double t, const double* x, double* g) override;
   StepAction on_event(double t, Eigen::VectorXd& x) override;
   void after_step(double t, const double* x) override;
+  double stop_time_hint() const override;
+  double bridge(double t, Eigen::VectorXd& x) override;
+  void bridged_observation(double t, Eigen::VectorXd& y) override;
   std::vector<EventNote> take_events() override { return problem_.take_events(); }
   // The DAE's report at the state (x with zero multipliers): the formulation
   // and the rank of the constraint rows there.

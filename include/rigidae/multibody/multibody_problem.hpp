@@ -253,7 +253,6 @@ class MultibodyProblem final : public DaeProblem {
   // the conditioning's check asked for it. Returns the landing time, or 0.
   double bridge_after_step(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp);
   bool bridges_singular_poses() const { return bridge_.enabled; }
-  void set_bridging(bool on) { bridge_.enabled = on && spec_.bridge_singular_poses; }
   // The scheme and the joints whose rows lost rank (src/multibody/stall_report.cpp).
   std::string describe_stall(double t, const double* y) override;
 

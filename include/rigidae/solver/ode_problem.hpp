@@ -16,6 +16,7 @@
 // solve, so the recorders of the DAE runs read ODE runs unchanged.
 //
 // Conventions: plain arrays of size() (x) or observed_size() (y).
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,14 @@ class OdeProblem {
   // After every accepted step, at the step's end (before any projection):
   // bookkeeping that follows the motion (a mechanism's torsion angles); x is not changed.
   virtual void after_step(double /*t*/, const double* /*x*/) {}
+  // The bridge across a mechanism's singular pose (DaeProblem's
+  // stop_time_hint and after_step's bridge): a time the next step must not
+  // pass (+inf: none); after an accepted step (recorded), bridge() may move x
+  // from t to the landing time it returns (0: no bridge), and
+  // bridged_observation() gives the recorded row inside (t, landing].
+  virtual double stop_time_hint() const { return std::numeric_limits<double>::infinity(); }
+  virtual double bridge(double /*t*/, Eigen::VectorXd& /*x*/) { return 0.0; }
+  virtual void bridged_observation(double /*t*/, Eigen::VectorXd& /*y*/) {}
   // Events that happened since the last call (chart switches), oldest first.
   virtual std::vector<EventNote> take_events() { return {}; }
   // As DaeProblem::describe_stall: why the step size collapsed at (t, x), or "".
