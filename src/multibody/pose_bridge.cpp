@@ -124,11 +124,7 @@ bool MultibodyProblem::plan_bridge(double t, double r) {
 double MultibodyProblem::bridge_after_step(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) {
   PoseBridge& b = bridge_;
   // The state for later extrapolations (the newest last).
-  if (!b.t.empty() && t <= b.t.back()) {
-    b.t.clear();  // a restart at an earlier time: a new run
-    b.y.clear();
-    b.yp.clear();
-  }
+  if (!b.t.empty() && t <= b.t.back()) forget_bridge_history();  // an earlier time: a new run
   if (static_cast<int>(b.t.size()) == kHistory) {
     b.t.erase(b.t.begin());
     b.y.erase(b.y.begin());
@@ -147,7 +143,12 @@ double MultibodyProblem::bridge_after_step(double t, Eigen::VectorXd& y, Eigen::
   std::vector<int> picked{static_cast<int>(b.t.size()) - 1};
   for (int k = static_cast<int>(b.t.size()) - 2; k >= 0 && static_cast<int>(picked.size()) < kNodes; --k)
     if (b.t[picked.back()] - b.t[k] >= 0.5 * reach) picked.push_back(k);
-  if (picked.size() < 2 || !(reach > 0.0)) return 0.0;  // too little history: the integrator passes it
+  if (picked.size() < 2 || !(reach > 0.0)) {
+    // Too little history (a restart just before): the integrator passes the
+    // pose, watched as without the bridge (row_subset.cpp).
+    near_singular_ = true;
+    return 0.0;
+  }
   std::reverse(picked.begin(), picked.end());
   std::vector<double> nodes;
   std::vector<const Eigen::VectorXd*> f, fp;

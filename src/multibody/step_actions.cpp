@@ -62,7 +62,10 @@ bool MultibodyProblem::change_charts(double t, Eigen::VectorXd& y, Eigen::Vector
     events_.push_back(note);
     changed = true;
   }
-  if (changed) make_consistent(t, y, yp);
+  if (changed) {
+    make_consistent(t, y, yp);
+    forget_bridge_history();  // the angles of earlier states are in the old charts
+  }
   return changed;
 }
 

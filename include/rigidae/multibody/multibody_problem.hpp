@@ -309,6 +309,13 @@ class MultibodyProblem final : public DaeProblem {
   // The bridge's plan at a conditioning sample (pose_bridge.cpp): a stop
   // time ahead of the pose, or a bridge now (true).
   bool plan_bridge(double t, double relative);
+  // The accepted states kept for the extrapolation, dropped (a chart switch
+  // changed the coordinates' meaning).
+  void forget_bridge_history() {
+    bridge_.t.clear();
+    bridge_.y.clear();
+    bridge_.yp.clear();
+  }
   void body_velocities(const double* y, Eigen::VectorXd& V) const;
   double velocity_norm(const double* y, const Eigen::VectorXd& x) const;
   double multiplier_amplification(const Eigen::SparseMatrix<double, Eigen::ColMajor, long>& Gt,
