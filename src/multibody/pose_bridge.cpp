@@ -45,6 +45,7 @@
 #include <cmath>
 #include <limits>
 
+#include "rigidae/core/hermite.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
 
 namespace rigidae::multibody {
@@ -63,38 +64,6 @@ constexpr double kBridgeCondition = 0.05;
 constexpr double kBridgeWatch = 0.5;
 constexpr int kHistory = 48;
 constexpr int kNodes = 3;
-
-// Newton's divided differences of the Hermite data on the doubled nodes
-// z = (t_0, t_0, t_1, t_1, ...): the interpolant's coefficients, in place.
-void hermite_coefficients(const std::vector<double>& nodes, const std::vector<const Eigen::VectorXd*>& f,
-                          const std::vector<const Eigen::VectorXd*>& fp, int n, std::vector<double>& z,
-                          std::vector<Eigen::VectorXd>& c) {
-  const int m = 2 * static_cast<int>(nodes.size());
-  z.resize(m);
-  c.resize(m);
-  for (int j = 0; j < m; ++j) {
-    z[j] = nodes[j / 2];
-    c[j] = f[j / 2]->head(n);
-  }
-  for (int k = 1; k < m; ++k)
-    for (int j = m - 1; j >= k; --j)
-      if (k == 1 && j % 2 == 1)
-        c[j] = fp[j / 2]->head(n);  // a doubled node: the derivative
-      else
-        c[j] = (c[j] - c[j - 1]) / (z[j] - z[j - k]);
-}
-
-// The interpolant and its derivative at t (Horner on the Newton form).
-void hermite_value(const std::vector<double>& z, const std::vector<Eigen::VectorXd>& c, double t, Eigen::VectorXd& value,
-                   Eigen::VectorXd* rate) {
-  const int m = static_cast<int>(c.size());
-  value = c[m - 1];
-  if (rate) rate->setZero(value.size());
-  for (int j = m - 2; j >= 0; --j) {
-    if (rate) *rate = *rate * (t - z[j]) + value;
-    value = value * (t - z[j]) + c[j];
-  }
-}
 
 }  // namespace
 
