@@ -439,7 +439,8 @@ void MultibodyProblem::initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
     fresh.rtol = bridge_.rtol;
     fresh.atol = bridge_.atol;
     bridge_ = std::move(fresh);
-    if (bridge_.enabled) bridge_after_step(t0, y, yp);  // the start: the first node
+    // The start: the first node (only loops with rows set aside are watched).
+    if (bridge_.enabled && watches_singular_poses()) bridge_after_step(t0, y, yp);
   }
   if (!redundancy_.dropped.empty()) {
     for (ConstraintBlock& b : blocks_)

@@ -119,7 +119,7 @@ StepAction MultibodyProblem::after_step(double t, double h, Eigen::VectorXd& y, 
   }
   // Last, on the state as the step leaves it: the bridge across a singular
   // pose ahead (pose_bridge.cpp), which restarts the integrator beyond it.
-  if (bridge_.enabled) {
+  if (bridge_.enabled && watches_singular_poses()) {  // only loops with rows set aside are watched
     const double landing = bridge_after_step(t, y, yp);
     if (landing > t) {
       a = StepAction{};
