@@ -32,7 +32,8 @@
 // the interpolant without the oldest node, in units of the tolerance,
 //   max_i |difference_i| / (rtol |y_i| + atol).
 // Then project() (positions in the mass metric, velocities, multipliers
-// and y' consistent). The branch check (branch_check.cpp) compares the
+// and y' consistent), and for a conservative mechanism without drivers the
+// velocities scaled back to the energy at t1 (below). The branch check (branch_check.cpp) compares the
 // velocity across the bridge. Inside (t1, t2] the output grid gets the
 // interpolant's state and multipliers interpolated linearly between the two
 // ends (not error-controlled; the reactions at the pose itself are not
@@ -54,9 +55,10 @@ namespace {
 
 // The conditioning at which a bridge starts and lands; below kBridgeWatch
 // the approach is watched (stop times). Measured on singular_linkage.toml
-// at rtol 1e-10 (every combination on IDA, both equation forms): IDA's
-// steps collapse from r ~ 0.015 on; bridging at r = 0.05 with 3 nodes kept
-// all but index3 within 5.2e-7 rad of the closed form to t = 1 s; at 0.03
+// at rtol 1e-10 (every combination on IDA, both equation forms, before the
+// energy scaling): IDA's steps collapse from r ~ 0.015 on; bridging at
+// r = 0.05 with 3 nodes kept all but index3 within 5.2e-7 rad of the closed
+// form to t = 1 s; at 0.03
 // (a shorter reach) or with 4 nodes (degree 7) the nodes' own errors,
 // amplified, made it worse (up to 1.1e-6 and 4.7e-6), at 0.1 the
 // truncation (1.3e-5 with 3 nodes).
@@ -159,6 +161,24 @@ double MultibodyProblem::bridge_after_step(double t, Eigen::VectorXd& y, Eigen::
   yp.head(ns) = yps;
   const auto [drift_position, drift_velocity] = drift(t2, y.data());
   project(t2, y, yp);
+  // Energy: a conservative mechanism without drivers keeps H = T + V across
+  // the bridge. The extrapolation's error along the motion (which the
+  // projection leaves) shows as an energy error; scaling the velocities
+  // removes it (G v = 0 is linear: they stay on the constraints):
+  //   v *= sqrt((H(t1) - V(t2)) / T(t2)).
+  if (conserves_energy() && drivers_.empty()) {
+    const double h1 = kinetic_energy(node_y.back().data()) + potential_energy(node_y.back().data());
+    const double t2_kinetic = kinetic_energy(y.data()), v2 = potential_energy(y.data());
+    if (t2_kinetic > 0.0 && h1 - v2 > 0.0) {
+      std::vector<int> scaled;
+      for (const BodyModel& body : bodies_) {
+        if (std::find(scaled.begin(), scaled.end(), body.v_group) != scaled.end()) continue;
+        scaled.push_back(body.v_group);
+        y.segment(groups_[body.v_group].offset, groups_[body.v_group].size) *= std::sqrt((h1 - v2) / t2_kinetic);
+      }
+      make_consistent(t2, y, yp);
+    }
+  }
   b.y_to = y;
 
   SingularPose& sp = singular_poses_.back();

@@ -158,6 +158,22 @@ std::string MechanismColumns::final_report(const RunExtremes& x, double t_reache
   std::string s = fmt::format("  final t       {:.9g} s (each body's state: trajectory.csv)\n", t_reached);
   s += fmt::format("  max drift     position {:.2e}, velocity {:.2e}\n", x.max_drift_position, x.max_drift_velocity);
   s += fmt::format("  invariants    max |energy rel. error| {:.2e}\n", x.max_abs_energy_error);
+  // Singular poses passed (multibody/row_subset.cpp, pose_bridge.cpp).
+  const auto& poses = problem_.singular_poses();
+  if (!poses.empty()) {
+    int bridged = 0, switched = 0;
+    double estimate = 0.0;
+    std::string at;
+    for (const multibody::SingularPose& sp : poses) {
+      bridged += sp.bridged ? 1 : 0;
+      switched += sp.branch_switch ? 1 : 0;
+      if (sp.bridged) estimate = std::max(estimate, sp.estimate);
+      at += fmt::format("{}{:.6g}", at.empty() ? "" : ", ", sp.t);
+    }
+    s += fmt::format("  singular      {} pose(s) at t = {} s; {} bridged{}{} (events.csv)\n", poses.size(), at, bridged,
+                     bridged ? fmt::format(", extrapolation estimate up to {:.3g} x the tolerance", estimate) : "",
+                     switched ? fmt::format("; {} changed branch", switched) : "");
+  }
   return s;
 }
 
