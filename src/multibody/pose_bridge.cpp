@@ -170,12 +170,8 @@ double MultibodyProblem::bridge_after_step(double t, Eigen::VectorXd& y, Eigen::
     const double h1 = kinetic_energy(node_y.back().data()) + potential_energy(node_y.back().data());
     const double t2_kinetic = kinetic_energy(y.data()), v2 = potential_energy(y.data());
     if (t2_kinetic > 0.0 && h1 - v2 > 0.0) {
-      std::vector<int> scaled;
-      for (const BodyModel& body : bodies_) {
-        if (std::find(scaled.begin(), scaled.end(), body.v_group) != scaled.end()) continue;
-        scaled.push_back(body.v_group);
+      for (const BodyModel& body : bodies_)  // each body's velocities are a group of their own
         y.segment(groups_[body.v_group].offset, groups_[body.v_group].size) *= std::sqrt((h1 - v2) / t2_kinetic);
-      }
       make_consistent(t2, y, yp);
     }
   }
