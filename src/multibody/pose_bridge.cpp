@@ -99,11 +99,9 @@ double MultibodyProblem::bridge_after_step(double t, Eigen::VectorXd& y, Eigen::
   if (static_cast<int>(b.t.size()) == kHistory) {
     b.t.erase(b.t.begin());
     b.y.erase(b.y.begin());
-    b.yp.erase(b.yp.begin());
   }
   b.t.push_back(t);
-  b.y.push_back(y);
-  b.yp.push_back(yp);
+  b.y.push_back(y);  // y' is not kept: the nodes' derivatives are recomputed from y (below)
   if (!b.pending) return 0.0;
   b.pending = false;
 
@@ -131,7 +129,6 @@ double MultibodyProblem::bridge_after_step(double t, Eigen::VectorXd& y, Eigen::
   for (std::size_t i = 0; i < picked.size(); ++i) {
     const int k = picked[i];
     node_y[i] = b.y[k];
-    node_yp[i] = b.yp[k];
     make_consistent(b.t[k], node_y[i], node_yp[i]);
     nodes.push_back(b.t[k]);
     f.push_back(&node_y[i]);
@@ -196,7 +193,6 @@ double MultibodyProblem::bridge_after_step(double t, Eigen::VectorXd& y, Eigen::
   // samples start again beyond the pose.
   b.t.push_back(t2);
   b.y.push_back(y);
-  b.yp.push_back(yp);
   b.t_last = b.r_last = std::numeric_limits<double>::quiet_NaN();
   b.stop_hint = std::numeric_limits<double>::infinity();
   return t2;

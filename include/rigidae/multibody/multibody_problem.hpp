@@ -208,7 +208,7 @@ struct PoseBridge {
   double t_end = std::numeric_limits<double>::infinity();
   double rtol = 1e-8, atol = 1e-8;  // the scene's, for the estimate's units
   std::vector<double> t;            // accepted states, oldest first
-  std::vector<Eigen::VectorXd> y, yp;
+  std::vector<Eigen::VectorXd> y;
   double t_last = std::numeric_limits<double>::quiet_NaN(), r_last = std::numeric_limits<double>::quiet_NaN();
   double stop_hint = std::numeric_limits<double>::infinity();
   bool pending = false;  // the last check asks for a bridge now
@@ -314,7 +314,6 @@ class MultibodyProblem final : public DaeProblem {
   void forget_bridge_history() {
     bridge_.t.clear();
     bridge_.y.clear();
-    bridge_.yp.clear();
   }
   void body_velocities(const double* y, Eigen::VectorXd& V) const;
   double velocity_norm(const double* y, const Eigen::VectorXd& x) const;
