@@ -25,6 +25,7 @@
 #include "rigidae/core/error.hpp"
 #include "serial_vector.hpp"
 #include "stall_watch.hpp"
+#include "stop_time.hpp"
 #include "rigidae/solver/version.hpp"
 
 namespace rigidae {
@@ -513,8 +514,7 @@ void IdaRun::after_step() {
 }
 
 void IdaRun::follow_stop_hint() {
-  const double hint = problem_.stop_time_hint();
-  const double stop = hint > t_ && hint < span_.end ? hint : span_.end;
+  const double stop = next_stop_time(problem_.stop_time_hint(), t_, span_.end);
   // IDA forgets its stop time once it returns there (IDA_TSTOP_RETURN) and
   // keeps it across IDAReInit: set again when it was reached or changes.
   if (stop == stop_time_ && flag_ != IDA_TSTOP_RETURN) return;

@@ -20,6 +20,7 @@
 #include "rigidae/solver/integrators.hpp"
 #include "serial_vector.hpp"
 #include "stall_watch.hpp"
+#include "stop_time.hpp"
 
 namespace rigidae {
 
@@ -156,8 +157,7 @@ RunResult integrate_ode(OdeProblem& problem, const SolverSettings& opt, const Ti
   // hint short of a singular pose, which the integrator forgets once there.
   double stop_time = span.end;
   auto follow_stop_hint = [&](double t_now) {
-    const double hint = problem.stop_time_hint();
-    const double stop = hint > t_now && hint < span.end ? hint : span.end;
+    const double stop = next_stop_time(problem.stop_time_hint(), t_now, span.end);
     if (stop == stop_time && t_now != stop_time) return;
     stepper->set_stop_time(stop);
     stop_time = stop;
