@@ -28,7 +28,8 @@ spring 1, 10^2, 10^4 and 10^6 times as stiff (and its damping scaled to
 keep the damping ratio), to see where an explicit table stops paying: the stiffness side of
 the rule (docs/benchmarks.md, "Defaults chosen by measurement").
 One JSON line per run on --out (default bench/results/default_integrator.jsonl,
-appended), the tables in markdown on stdout.
+appended), the tables in markdown on stdout (report_text(); bench/report.py
+renders the committed file's tables into docs/benchmarks.md's generated part).
 """
 import argparse
 import json
@@ -256,14 +257,13 @@ def cheapest(rs, integ, target, schemes=None, key="error"):
 def rule_table(records, key="error"):
     """The rule's question: on the schemes every integrator runs (index1, projection; "any" for Euler
     angles), which integrator reaches the default run's error cheapest, and at what cost against IDA's
-    best on the same schemes. key: "error" (the largest on the grid) or "error_end" (at the end)."""
-    print()
-    print("On the schemes every integrator runs (index1, projection; `any`: no constraint), the cheapest "
-          f"setting of each integrator to the default run's error {'on the whole grid' if key == 'error' else 'at the end'} "
-          "(wall ms; `-`: not reached at any rtol swept):")
-    print()
-    print("| scene | target | " + " | ".join(INTEGRATORS) + " | cheapest | arkode-erk / ida |")
-    print("|---|---|" + "---:|" * len(INTEGRATORS) + "---|---:|")
+    best on the same schemes. key: "error" (the largest on the grid) or "error_end" (at the end).
+    Markdown lines: a blank line, the sentence saying what the table holds, a blank line, the table."""
+    out = ["", "On the schemes every integrator runs (index1, projection; `any`: no constraint), the cheapest "
+           f"setting of each integrator to the default run's error {'on the whole grid' if key == 'error' else 'at the end'} "
+           "(wall ms; `-`: not reached at any rtol swept):", "",
+           "| scene | target | " + " | ".join(INTEGRATORS) + " | cheapest | arkode-erk / ida |",
+           "|---|---|" + "---:|" * len(INTEGRATORS) + "---|---:|"]
     for sc in dict.fromkeys(r["scene"] for r in records):
         rs = [r for r in records if r["scene"] == sc]
         base = next((r for r in rs if r["default"] and r["status"] == "success"), None)
@@ -275,24 +275,26 @@ def rule_table(records, key="error"):
         win = min(reached, key=lambda b: b[COST])["integrator"] if reached else "none"
         ratio = (f"{best['arkode-erk'][COST] / best['ida'][COST]:.2f}" if best["arkode-erk"] and best["ida"]
                  else "-")
-        print(f"| {sc} | {base[key]:.1e} {base['error_unit']} | " + " | ".join(cells) + f" | {win} | {ratio} |")
+        out.append(f"| {sc} | {base[key]:.1e} {base['error_unit']} | " + " | ".join(cells) + f" | {win} | {ratio} |")
+    return out
 
 
-def report(records):
+def scene_table(records):
+    """Every scene, every integrator (any scheme it runs), to the default run's error on the grid, and
+    the verdicts (the cheapest integrator per scene, arkode-erk's best against the default). Markdown lines."""
     scenes = list(dict.fromkeys(r["scene"] for r in records))
-    print("Cost: the integration's wall time (summary.json wall_time_s, ms, median of the repeats; the "
-          "process CPU times are in the JSON lines). Target: the default run's largest error on the grid.")
-    print()
-    print("| scene | own scheme | default (IDA, own scheme, scene rtol): error / steps / wall ms | "
-          + " | ".join(f"{i}: cheapest to that error (scheme, rtol, steps, wall ms, x default)" for i in INTEGRATORS)
-          + " |")
-    print("|---|---|---|" + "---|" * len(INTEGRATORS))
+    out = ["Cost: the integration's wall time (summary.json wall_time_s, ms, median of the repeats; the "
+           "process CPU times are in the JSON lines). Target: the default run's largest error on the grid.", "",
+           "| scene | own scheme | default (IDA, own scheme, scene rtol): error / steps / wall ms | "
+           + " | ".join(f"{i}: cheapest to that error (scheme, rtol, steps, wall ms, x default)" for i in INTEGRATORS)
+           + " |",
+           "|---|---|---|" + "---|" * len(INTEGRATORS)]
     verdicts = []
     for sc in scenes:
         rs = [r for r in records if r["scene"] == sc]
         base = next((r for r in rs if r["default"] and r["status"] == "success"), None)
         if base is None:
-            print(f"| {sc} | | default run failed | " + " | ".join("-" for _ in INTEGRATORS) + " |")
+            out.append(f"| {sc} | | default run failed | " + " | ".join("-" for _ in INTEGRATORS) + " |")
             continue
         target = base["error"]
         cells = []
@@ -307,23 +309,28 @@ def report(records):
             best[integ] = b
             cells.append(f"{b['scheme']}, {b['rtol']:g}, {b['steps']:,}, {fmt_ms(b[COST])}, "
                          f"{b[COST] / base[COST]:.2f}")
-        print(f"| {sc} | {base['own_scheme']} | {target:.2e} {base['error_unit']} / {base['steps']:,} / "
-              f"{fmt_ms(base[COST])} | " + " | ".join(cells) + " |")
+        out.append(f"| {sc} | {base['own_scheme']} | {target:.2e} {base['error_unit']} / {base['steps']:,} / "
+                   f"{fmt_ms(base[COST])} | " + " | ".join(cells) + " |")
         w = min(best.values(), key=lambda r: r[COST])
         erk = best.get("arkode-erk")
         verdicts.append((sc, base, w, erk))
-    print()
-    print("| scene | own scheme | cheapest integrator to the default's error | scheme, rtol | wall / the default's | "
-          "arkode-erk's best / the default's |")
-    print("|---|---|---|---|---:|---:|")
+    out += ["", "| scene | own scheme | cheapest integrator to the default's error | scheme, rtol | wall / the default's | "
+            "arkode-erk's best / the default's |", "|---|---|---|---|---:|---:|"]
     for sc, base, w, erk in verdicts:
-        print(f"| {sc} | {base['own_scheme']} | {w['integrator']} | {w['scheme']}, {w['rtol']:g} | "
-              f"{w[COST] / base[COST]:.2f} | {erk[COST] / base[COST]:.2f} |" if erk else
-              f"| {sc} | {base['own_scheme']} | {w['integrator']} | {w['scheme']}, {w['rtol']:g} | "
-              f"{w[COST] / base[COST]:.2f} | not reached |")
-    rule_table(records)
-    rule_table(records, "error_end")
+        out.append(f"| {sc} | {base['own_scheme']} | {w['integrator']} | {w['scheme']}, {w['rtol']:g} | "
+                   f"{w[COST] / base[COST]:.2f} | {erk[COST] / base[COST]:.2f} |" if erk else
+                   f"| {sc} | {base['own_scheme']} | {w['integrator']} | {w['scheme']}, {w['rtol']:g} | "
+                   f"{w[COST] / base[COST]:.2f} | not reached |")
+    return out
 
+
+def report_text(records):
+    """The tables of --report, as markdown: scene_table, then rule_table on the grid and at the end."""
+    return "\n".join(scene_table(records) + rule_table(records) + rule_table(records, "error_end")) + "\n"
+
+
+def report(records):
+    print(report_text(records), end="")
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])

@@ -24,7 +24,9 @@ runs get none of RIGIDAE_TMP_*). --label names the setting measured; with
 --out, one JSON line per scene is appended there. --report FILE prints the
 settings of such a file side by side (totals, the long pendulums' errors, and
 the other scenes whose largest error on the grid is over 1.5x the first
-setting's) and runs nothing.
+setting's) and runs nothing (report_table(); bench/report.py renders the
+committed bench/results/ida_newton_accuracy.jsonl the same way into
+docs/benchmarks.md's generated part).
 """
 import argparse
 import csv
@@ -95,14 +97,14 @@ def errors(scene, rows, ref_rows):
     return max(e), e[-1]
 
 
-def report(path):
-    lines = [json.loads(x) for x in open(path) if x.strip()]
+def report_table(lines):
+    """The settings of an --out file's JSON lines side by side, as markdown (what --report prints)."""
     settings = list(dict.fromkeys(r["setting"] for r in lines))
     by = {(r["setting"], r["scene"]): r for r in lines}
     base = settings[0]
-    print("| setting | conv. fails (without pendulum_1000) | residuals | matrices | steps | pendulum_1000 error "
-          "max on grid / end (m) | particle_pendulum max on grid (m) | other scenes over 1.5x the first's error |")
-    print("|---|---:|---:|---:|---:|---:|---:|---|")
+    out = ["| setting | conv. fails (without pendulum_1000) | residuals | matrices | steps | pendulum_1000 error "
+           "max on grid / end (m) | particle_pendulum max on grid (m) | other scenes over 1.5x the first's error |",
+           "|---|---:|---:|---:|---:|---:|---:|---|"]
     for st in settings:
         rs = [r for r in lines if r["setting"] == st]
         tot = {k: sum(r[k] for r in rs) for k in ("steps", "newton_conv_fails", "residual_evals", "jacobian_evals")}
@@ -116,10 +118,15 @@ def report(path):
                 continue
             if r["max_error_on_grid_m"] > 1.5 * b["max_error_on_grid_m"]:
                 worse.append(f"{r['scene']} {r['max_error_on_grid_m'] / b['max_error_on_grid_m']:.1f}x")
-        print(f"| {st} | {tot['newton_conv_fails']:,} ({wo:,}) | {tot['residual_evals']:,} | {tot['jacobian_evals']:,} | "
-              f"{tot['steps']:,} | {p['max_error_on_grid_m']:.2e} / {p['error_at_end_m']:.2e} | "
-              f"{pp['max_error_on_grid_m']:.2e} | {', '.join(worse) or 'none'} |")
+        out.append(f"| {st} | {tot['newton_conv_fails']:,} ({wo:,}) | {tot['residual_evals']:,} | {tot['jacobian_evals']:,} | "
+                   f"{tot['steps']:,} | {p['max_error_on_grid_m']:.2e} / {p['error_at_end_m']:.2e} | "
+                   f"{pp['max_error_on_grid_m']:.2e} | {', '.join(worse) or 'none'} |")
+    return "\n".join(out) + "\n"
 
+
+def report(path):
+    lines = [json.loads(x) for x in open(path) if x.strip()]
+    print(report_table(lines), end="")
 
 LONG = {"particle_pendulum", "pendulum_1000"}
 

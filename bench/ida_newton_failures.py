@@ -14,7 +14,9 @@ valgrind's callgrind counting the instructions inside rigidae::integrate
 machine does not move; particle_pendulum and the pendulums over 1000
 periods are counted over their first 50 s (--t-end 50) there, to keep the
 run short. One JSON line per scene on --out (default
-bench/results/ida_newton_failures.jsonl), the table in markdown on stdout.
+bench/results/ida_newton_failures.jsonl), the table in markdown on stdout
+(table(); bench/report.py renders it from the results file into
+docs/benchmarks.md's generated part).
 """
 import argparse
 import json
@@ -63,6 +65,21 @@ def instructions(rigidae, scene, extra):
     return None
 
 
+def table(lines):
+    """The markdown table of the JSON lines (one per scene, and their total), under the commit(s) measured."""
+    commits = ", ".join(dict.fromkeys(r.get("commit", "") for r in lines))
+    out = [f"commit {commits}\n", "| scene | steps | Newton conv. fails | residuals | matrices | instructions (M) |",
+           "|---|---:|---:|---:|---:|---:|"]
+    for r in lines:
+        ir = f"{r['instructions'] / 1e6:,.0f}" if r.get("instructions") else "-"
+        out.append(f"| {r['scene']} | {r['steps']:,} | {r['newton_conv_fails']:,} | {r['residual_evals']:,} | "
+                   f"{r['jacobian_evals']:,} | {ir} |")
+    tot = {k: sum(r[k] for r in lines) for k in ("steps", "newton_conv_fails", "residual_evals", "jacobian_evals")}
+    out.append(f"| **total** | {tot['steps']:,} | {tot['newton_conv_fails']:,} | {tot['residual_evals']:,} | "
+               f"{tot['jacobian_evals']:,} | |")
+    return "\n".join(out) + "\n"
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
@@ -92,16 +109,7 @@ def main():
     with open(a.out, "w") as f:
         for line in lines:
             f.write(json.dumps(line) + "\n")
-    print(f"commit {commit}\n")
-    print("| scene | steps | Newton conv. fails | residuals | matrices | instructions (M) |")
-    print("|---|---:|---:|---:|---:|---:|")
-    for r in lines:
-        ir = f"{r['instructions'] / 1e6:,.0f}" if r.get("instructions") else "-"
-        print(f"| {r['scene']} | {r['steps']:,} | {r['newton_conv_fails']:,} | {r['residual_evals']:,} | "
-              f"{r['jacobian_evals']:,} | {ir} |")
-    tot = {k: sum(r[k] for r in lines) for k in ("steps", "newton_conv_fails", "residual_evals", "jacobian_evals")}
-    print(f"| **total** | {tot['steps']:,} | {tot['newton_conv_fails']:,} | {tot['residual_evals']:,} | "
-          f"{tot['jacobian_evals']:,} | |")
+    print(table(lines), end="")
 
 
 if __name__ == "__main__":

@@ -25,7 +25,8 @@ Runs (--runs, comma-separated names of RUNS below; default all):
                              1e-8 (pendulum_1000's default; slow: 6-8 s each)
 
 One JSON line per run on --out (default bench/results/long_run.jsonl), the
-table in markdown on stdout.
+table in markdown on stdout (table(); bench/report.py renders it from the
+results file into docs/benchmarks.md's generated part).
 """
 import argparse
 import csv
@@ -110,6 +111,26 @@ def one_run(rigidae, scene, args):
             "end_m": end, "worst_m": worst}
 
 
+def table(lines, repeats=None):
+    """The markdown table of a results file's lines (the machine line first, then one per run), with
+    the line naming the date, commit and machine above it; repeats: the runs' own when not given."""
+    machine = next((x for x in lines if x.get("kind") == "machine"), None)
+    runs = [x for x in lines if x.get("kind") == "long_run"]
+    if repeats is None:
+        repeats = "/".join(str(n) for n in dict.fromkeys(r["repeats"] for r in runs))
+    out = []
+    if machine:
+        out.append(f"{machine['date']}, commit {machine['commit']}, {machine['cpu']} ({machine['cores']} cores); "
+                   f"medians of {repeats}\n")
+    out.append("| run | steps | right-hand sides | bob at the end (m) | worst on the grid (m) | "
+               "integration wall (s) | process CPU (s) | load before / after |")
+    out.append("|---|---:|---:|---:|---:|---:|---:|---|")
+    for r in runs:
+        out.append(f"| {r['run']} | {r['steps']:,} | {r['rhs']:,} | {r['end_m']:.2g} | {r['worst_m']:.2g} | "
+                   f"{r['wall_s_median']:.3f} | {r['cpu_s_median']:.3f} | {r['load_before']:.1f} / {r['load_after']:.1f} |")
+    return "\n".join(out) + "\n"
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
@@ -142,14 +163,7 @@ def main():
     with open(a.out, "w") as f:
         for line in lines:
             f.write(json.dumps(line) + "\n")
-    m = lines[0]
-    print(f"{m['date']}, commit {m['commit']}, {m['cpu']} ({m['cores']} cores); medians of {a.repeats}\n")
-    print("| run | steps | right-hand sides | bob at the end (m) | worst on the grid (m) | "
-          "integration wall (s) | process CPU (s) | load before / after |")
-    print("|---|---:|---:|---:|---:|---:|---:|---|")
-    for r in lines[1:]:
-        print(f"| {r['run']} | {r['steps']:,} | {r['rhs']:,} | {r['end_m']:.2g} | {r['worst_m']:.2g} | "
-              f"{r['wall_s_median']:.3f} | {r['cpu_s_median']:.3f} | {r['load_before']:.1f} / {r['load_after']:.1f} |")
+    print(table(lines, a.repeats), end="")
 
 
 if __name__ == "__main__":
