@@ -494,105 +494,85 @@ def commits_of(rows):
 def mechanisms_part(results, figs, figs_rel):
     """The mechanism benchmarks' tables (and the chain's figure) from the JSON-lines files in `results`,
     each rendered by its own script's table function; an absent file is said to be absent."""
-    def path(name):
-        return os.path.join(results, name)
+    def heavy_top(path):
+        rows, counts, machine = heavy_top_rkf78.load(path)
+        return ("(table: `bench/heavy_top_rkf78.py bench/results/heavy_top_rkf78.jsonl`); wall times medians of "
+                "the repeats, rigidae unrecorded, instructions counted by callgrind at each best setting:\n\n"
+                + heavy_top_rkf78.table(rows, counts, machine))
 
+    def defaults(path):
+        recs = read_jsonl(path)
+        loads = sorted({float(r["load"]) for r in recs if r.get("load")})
+        return ("and `... --scenes '' --damped --integrators ida,arkode-erk --factors 10,1,0.1` (tables: "
+                f"`bench/default_integrator.py --report bench/results/default_integrator.jsonl`); {len(recs)} "
+                f"settings, commit {commits_of(recs)}"
+                + (f", load average {loads[0]:g}-{loads[-1]:g} at the scenes' starts" if loads else "") + ".\n\n"
+                + default_integrator.report_text(recs))
+
+    def long_runs(path):
+        return ("(`pivot`: problems/pendulum_1000_pivot.toml, `free`: problems/pendulum_1000.toml, both on "
+                "arkode-erk fehlberg78 index1 at rtol = atol = the number); the bob's distance to the exact "
+                "quarter points at the end and the worst over the grid:\n\n" + long_run.table(read_jsonl(path)))
+
+    def newton_failures(path):
+        return ("(every shipped mechanism's default run on IDA, `--record none`; counts exact):\n\n"
+                + ida_newton_failures.table(read_jsonl(path)))
+
+    def newton_accuracy(path):
+        rows = read_jsonl(path)
+        return (f"(the report: `bench/ida_newton_accuracy.py --report bench/results/ida_newton_accuracy.jsonl`; "
+                f"commit {commits_of(rows)}; the settings after the first through a temporary hook, not "
+                "committed; errors: the largest position error over the output grid):\n\n"
+                + ida_newton_accuracy.report_table(rows))
+
+    def chain(path):
+        rows = read_jsonl(path)
+        text = ("(table, slopes and figure: `bench/chain_report.py`; quaternion/euler/ggl, rtol = atol = 1e-8, "
+                "exact Jacobian; chain.sh records no date or commit):\n\n" + chain_report.table(rows))
+        lines = chain_report.slopes(rows)
+        if lines:
+            text += ("\nLeast-squares slopes of log(cost per step) against log N (`bench/chain_report.py`):\n\n"
+                     + "".join(f"- {line}\n" for line in lines))
+        os.makedirs(figs, exist_ok=True)
+        chain_report.draw(rows, os.path.join(figs, "benchmarks_chain.png"))
+        return text + f"\n![time and instructions per step against N]({figs_rel}/benchmarks_chain.png)\n"
+
+    def dense_klu(path):
+        rows = read_jsonl(path)
+        table = chain_report.solver_comparison(rows)
+        return ("(`bench/chain_report.py`'s solver_comparison): instructions per step inside the integration, "
+                "and the medians of the wall and CPU times per step:\n\n" + (table if table else chain_report.table(rows)))
+
+    # (results file, heading, the command that writes it, the rest of the section from the file)
+    sections = [
+        ("heavy_top_rkf78.jsonl", "Heavy top, ARKODE against RKF78: the recorded run (issue 23, item 2)",
+         "bash bench/heavy_top_rkf78.sh build --repeats 21", heavy_top),
+        ("default_integrator.jsonl", "Defaults chosen by measurement: the tables (issue 23, item 4)",
+         "/usr/bin/python3 bench/default_integrator.py build --stiff", defaults),
+        ("long_run.jsonl", "Long runs: the recorded runs (issue 23, item 3)",
+         "/usr/bin/python3 bench/long_run.py build --repeats 5 --runs "
+         "pivot-1e-11,pivot-1e-12,pivot-1e-13,free-1e-10,free-1e-12", long_runs),
+        ("ida_newton_failures.jsonl", "IDA's Newton convergence failures: the default runs (issue 23, item 3)",
+         "/usr/bin/python3 bench/ida_newton_failures.py build", newton_failures),
+        ("ida_newton_accuracy.jsonl", "IDA's Newton settings: the accuracy sweep (issue 23, item 3)",
+         "/usr/bin/python3 bench/ida_newton_accuracy.py build --label default --out "
+         "bench/results/ida_newton_accuracy.jsonl", newton_accuracy),
+        ("chain.jsonl", "The N-link chain on IDA: cost per step (issue 12)",
+         "bash bench/chain.sh build --sizes 1,10,100,1000 --solvers auto --repeats 3 --callgrind "
+         "--out bench/results/chain.jsonl", chain),
+        ("chain_dense_klu.jsonl", "The N-link chain: dense LU or KLU (issue 12)",
+         "bash bench/chain.sh build --sizes 4,6,8,10,12 --solvers dense,klu --repeats 3 --steps-goal 1000 "
+         "--callgrind --out bench/results/chain_dense_klu.jsonl", dense_klu),
+    ]
     md = ["\n### Mechanism benchmarks: where each table comes from\n\n"
           "Each table below is what its script prints for the committed results file (the prose sections "
           "above quote these numbers). `bash bench/run_all.sh` reruns them all, except the Newton-settings "
           "accuracy sweep (its candidate settings went through a temporary hook not in the tree); "
           "`--no-mechanisms` skips them.\n"]
-
-    name = "heavy_top_rkf78.jsonl"
-    md.append("\n### Heavy top, ARKODE against RKF78: the recorded run (issue 23, item 2)\n\n")
-    if os.path.exists(path(name)):
-        rows, counts, machine = heavy_top_rkf78.load(path(name))
-        md.append("`bash bench/heavy_top_rkf78.sh build --repeats 21` (table: `bench/heavy_top_rkf78.py "
-                  "bench/results/heavy_top_rkf78.jsonl`); wall times medians of the repeats, rigidae "
-                  "unrecorded, instructions counted by callgrind at each best setting:\n\n")
-        md.append(heavy_top_rkf78.table(rows, counts, machine))
-    else:
-        md.append(absent(name, "bash bench/heavy_top_rkf78.sh build --repeats 21"))
-
-    name = "default_integrator.jsonl"
-    md.append("\n### Defaults chosen by measurement: the tables (issue 23, item 4)\n\n")
-    if os.path.exists(path(name)):
-        recs = read_jsonl(path(name))
-        loads = sorted({float(r["load"]) for r in recs if r.get("load")})
-        md.append("`/usr/bin/python3 bench/default_integrator.py build --stiff` and `... --scenes '' --damped "
-                  "--integrators ida,arkode-erk --factors 10,1,0.1` (tables: `bench/default_integrator.py "
-                  f"--report bench/results/default_integrator.jsonl`); {len(recs)} settings, commit "
-                  f"{commits_of(recs)}" + (f", load average {loads[0]:g}-{loads[-1]:g} at the scenes' starts"
-                                           if loads else "") + ".\n\n")
-        md.append(default_integrator.report_text(recs))
-    else:
-        md.append(absent(name, "/usr/bin/python3 bench/default_integrator.py build --stiff"))
-
-    name = "long_run.jsonl"
-    md.append("\n### Long runs: the recorded runs (issue 23, item 3)\n\n")
-    if os.path.exists(path(name)):
-        md.append("`/usr/bin/python3 bench/long_run.py build --repeats 5 --runs pivot-1e-11,pivot-1e-12,"
-                  "pivot-1e-13,free-1e-10,free-1e-12` (`pivot`: problems/pendulum_1000_pivot.toml, `free`: "
-                  "problems/pendulum_1000.toml, both on arkode-erk fehlberg78 index1 at rtol = atol = the "
-                  "number); the bob's distance to the exact quarter points at the end and the worst over the "
-                  "grid:\n\n")
-        md.append(long_run.table(read_jsonl(path(name))))
-    else:
-        md.append(absent(name, "/usr/bin/python3 bench/long_run.py build --repeats 5"))
-
-    name = "ida_newton_failures.jsonl"
-    md.append("\n### IDA's Newton convergence failures: the default runs (issue 23, item 3)\n\n")
-    if os.path.exists(path(name)):
-        md.append("`/usr/bin/python3 bench/ida_newton_failures.py build` (every shipped mechanism's default "
-                  "run on IDA, `--record none`; counts exact):\n\n")
-        md.append(ida_newton_failures.table(read_jsonl(path(name))))
-    else:
-        md.append(absent(name, "/usr/bin/python3 bench/ida_newton_failures.py build"))
-
-    name = "ida_newton_accuracy.jsonl"
-    md.append("\n### IDA's Newton settings: the accuracy sweep (issue 23, item 3)\n\n")
-    if os.path.exists(path(name)):
-        rows = read_jsonl(path(name))
-        md.append("`/usr/bin/python3 bench/ida_newton_accuracy.py --report bench/results/ida_newton_accuracy.jsonl` "
-                  f"(commit {commits_of(rows)}; the settings after the first through a temporary hook, not "
-                  "committed; errors: the largest position error over the output grid):\n\n")
-        md.append(ida_newton_accuracy.report_table(rows))
-    else:
-        md.append(absent(name, "/usr/bin/python3 bench/ida_newton_accuracy.py build --label default --out "
-                               "bench/results/ida_newton_accuracy.jsonl"))
-
-    name = "chain.jsonl"
-    md.append("\n### The N-link chain on IDA: cost per step (issue 12)\n\n")
-    if os.path.exists(path(name)):
-        rows = read_jsonl(path(name))
-        md.append("`bash bench/chain.sh build --sizes 1,10,100,1000 --solvers auto --repeats 3 --callgrind --out "
-                  "bench/results/chain.jsonl` (table, slopes and figure: `bench/chain_report.py`; "
-                  "quaternion/euler/ggl, rtol = atol = 1e-8, exact Jacobian; chain.sh records no date or "
-                  "commit):\n\n")
-        md.append(chain_report.table(rows))
-        lines = chain_report.slopes(rows)
-        if lines:
-            md.append("\nLeast-squares slopes of log(cost per step) against log N (`bench/chain_report.py`):\n\n"
-                      + "".join(f"- {line}\n" for line in lines))
-        os.makedirs(figs, exist_ok=True)
-        chain_report.draw(rows, os.path.join(figs, "benchmarks_chain.png"))
-        md.append(f"\n![time and instructions per step against N]({figs_rel}/benchmarks_chain.png)\n")
-    else:
-        md.append(absent(name, "bash bench/chain.sh build --callgrind --out bench/results/chain.jsonl"))
-
-    name = "chain_dense_klu.jsonl"
-    md.append("\n### The N-link chain: dense LU or KLU (issue 12)\n\n")
-    if os.path.exists(path(name)):
-        rows = read_jsonl(path(name))
-        table = chain_report.solver_comparison(rows)
-        md.append("`bash bench/chain.sh build --sizes 4,6,8,10,12 --solvers dense,klu --repeats 3 --steps-goal "
-                  "1000 --callgrind --out bench/results/chain_dense_klu.jsonl` (`bench/chain_report.py`'s "
-                  "solver_comparison): instructions per step inside the integration, and the medians of the "
-                  "wall and CPU times per step:\n\n")
-        md.append(table if table else chain_report.table(rows))
-    else:
-        md.append(absent(name, "bash bench/chain.sh build --sizes 4,6,8,10,12 --solvers dense,klu --callgrind "
-                               "--out bench/results/chain_dense_klu.jsonl"))
+    for name, heading, command, render in sections:
+        md.append(f"\n### {heading}\n\n")
+        path = os.path.join(results, name)
+        md.append(f"`{command}` " + render(path) if os.path.exists(path) else absent(name, command))
     return "".join(md)
 
 
