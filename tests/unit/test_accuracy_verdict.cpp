@@ -296,10 +296,14 @@ TEST_CASE("verdict: with the bridge across singular poses the companion keeps th
 }
 
 // ARKODE's quaternion/lagrange/index1 at rtol 1e-10 steps over both poses
-// (steps of ~0.05 s) and ends 9.3e-6 rad off the closed form; its companion
+// (steps of ~0.05 s) and stays on the parallelogram branch; its companion
 // at 1e-12 collapses at the second pose and quaternion/euler/ggl fails its
 // Newton iteration at the first. Before the linear/euler fallbacks the
-// verdict was "not estimated" and the run carried no warning.
+// verdict was "not estimated" and the run carried no warning. The fallback
+// that finishes leaves the branch at a pose and the arbiters fail there, so
+// the verdict cannot tell which run is right and says so. (The run ended
+// 9.3e-6 rad off on the grid while ARKODE's degree-5 interpolant filled it;
+// with the shortened steps of arkode_stepper.cpp it is within 1e-9.)
 TEST_CASE("verdict: companions that fail at a singular pose are followed by the linear/euler fallbacks") {
   const fs::path out = rigidae::test::fresh_temp_dir("verdict_fallbacks");
   const auto r = rigidae::test::run_cli("solve " + integrating_linkage("verdict_fallbacks") +
@@ -308,8 +312,7 @@ TEST_CASE("verdict: companions that fail at a singular pose are followed by the 
                                         "--error-estimate -q --out " + out.string());
   REQUIRE(r.exit_code == 0);
   const double off = off_parallelogram(read_trajectory_csv(out / "trajectory.csv"));
-  CHECK(off > 1e3 * 1e-10);  // far off, on the parallelogram branch all the same
-  CHECK(off < 1e-3);
+  CHECK(off < 1e-9);  // on the parallelogram branch, every grid row
   const nlohmann::json summary = read_json(out / "summary.json");
   const nlohmann::json& e = summary["error_estimate"];
   CAPTURE(e.dump());
@@ -317,9 +320,13 @@ TEST_CASE("verdict: companions that fail at a singular pose are followed by the 
   const std::string companion = e["companion"]["combination"].get<std::string>();
   CHECK(companion.rfind("linear/euler/", 0) == 0);
   CHECK(e["companion"]["note"].get<std::string>().find("did not finish") != std::string::npos);
-  bool verdict_warned = false;
-  for (const auto& w : summary["warnings"]) verdict_warned |= w["quantity"] == "orientation_error";
-  CHECK(verdict_warned);
+  CHECK(e["branch_disagreement"].get<bool>());
+  CHECK(e["arbiter"]["verdict"].get<std::string>().rfind("failed", 0) == 0);
+  std::string verdict;
+  for (const auto& w : summary["warnings"])
+    if (w["quantity"] == "orientation_error") verdict = w["message"].get<std::string>();
+  CHECK(verdict.find("may be far less accurate") != std::string::npos);
+  CHECK(verdict.find("which one is right is not known") != std::string::npos);
 }
 
 // The verdict's own logic: an arbiter that agrees with the companion after a
