@@ -49,7 +49,7 @@ class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
     if (!mem_) throw SolverError("ERKStepCreate failed");
     try {
       configure(method, atol, opt, span, data, n_events);
-      if (order_ > kHermiteExactOrder) make_restep(method, x0, ctx, data);
+      if (order_ > kHermiteExactOrder) make_restep(method, x0, atol, opt, ctx, data);
     } catch (...) {
       free_all();
       throw;
@@ -78,7 +78,7 @@ class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
     restep_rhs_ = 0;                  // counted: a restart's caller adds the counters once
   }
 
-  // Each step's start is kept for dense output by a shortened step (below).
+  // Each step's start is kept for the dense output (below).
   int step(double t_end, N_Vector x, double& t) override {
     if (restep_) {
       N_VScale(1.0, x, start_y_);
@@ -91,24 +91,31 @@ class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
   // ~ h^6): for tables of higher order it is less accurate than the steps
   // (particle_pendulum.toml, Fehlberg 7(8) at rtol 1e-10 over 10 periods:
   // 1.7e-6 m off on the grid, 1.8e-9 m at the last step). Inside a step,
-  // such a table takes one step of the same table from the step's start to
-  // t instead: a shorter step than the accepted one, so its local error is
-  // smaller, and the run's own steps are left as they were (stopping at each
-  // output time instead changed the step-size controller's sequence and
-  // made the steps' own error 7x larger on that scene).
+  // such a table integrates again from the step's start to t, with the same
+  // table and tolerances, trying the whole way in one step: shorter than the
+  // accepted step, so one step almost always passes, and error-controlled
+  // where it does not (one fixed step of ~0.5 s across singular_linkage's
+  // collinear pose left a grid row 2.8e-2 m off). The run's own steps are
+  // left as they were: stopping at each output time instead changed the
+  // step-size controller's sequence and made the steps' own error 7x larger
+  // on particle_pendulum.
   int dky(double t, N_Vector out) override {
     const double t_now = current_time();
     if (!restep_ || !(t > start_t_) || t >= t_now) return SundialsStepper::dky(t, out);
     check(ERKStepReInit(restep_, rhs_callback, start_t_, start_y_), "ERKStepReInit (dense output)");
-    check(ERKStepSetFixedStep(restep_, t - start_t_), "ERKStepSetFixedStep (dense output)");
+    check(ERKStepSetInitStep(restep_, t - start_t_), "ERKStepSetInitStep (dense output)");
     check(ERKStepSetStopTime(restep_, t), "ERKStepSetStopTime (dense output)");
     double reached = start_t_;
-    const int flag = ERKStepEvolve(restep_, t, out, &reached, ARK_ONE_STEP);
+    const int flag = ERKStepEvolve(restep_, t, out, &reached, ARK_NORMAL);
     long evals = 0;
     ERKStepGetNumRhsEvals(restep_, &evals);
     restep_rhs_ += evals;
-    // A right-hand side that cannot be evaluated on the way (a mechanism's
-    // saddle-point matrix at a singular pose): the interpolant, as before.
+    // A right-hand side that cannot be evaluated on the way: the interpolant,
+    // as before. (singular_linkage in euler/lagrange at rtol 1e-6: the run
+    // steps from 0.12 s to 0.61 s over its Euler charts' lock at 0.25 s, where
+    // the Lagrange form's matrix is singular; the grid rows at 0.25 and
+    // 0.75 s fall back, 2.8e-2 m off, the others within 2.3e-5 m, were up
+    // to 3e-2 m interpolated.)
     return flag < 0 ? SundialsStepper::dky(t, out) : 0;
   }
 
@@ -116,14 +123,15 @@ class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
   // ARKODE's Hermite interpolant is exact for polynomials of degree 5.
   static constexpr int kHermiteExactOrder = 5;
 
-  void make_restep(const ErkMethodInfo& method, N_Vector x0, SUNContext ctx, CallbackData& data) {
+  void make_restep(const ErkMethodInfo& method, N_Vector x0, N_Vector atol, const SolverSettings& opt, SUNContext ctx,
+                   CallbackData& data) {
     start_y_ = N_VClone(x0);
     if (!start_y_) throw SolverError("N_VClone failed (dense output)");
     N_VScale(1.0, x0, start_y_);
     restep_ = ERKStepCreate(rhs_callback, 0.0, x0, ctx);
     if (!restep_) throw SolverError("ERKStepCreate failed (dense output)");
     check(ERKStepSetTableName(restep_, method.arkode_name.c_str()), "ERKStepSetTableName (dense output)");
-    check(ERKStepSStolerances(restep_, 1.0, 1.0), "ERKStepSStolerances (dense output)");  // unused: fixed step
+    check(ERKStepSVtolerances(restep_, opt.rtol, atol), "ERKStepSVtolerances (dense output)");
     check(ERKStepSetUserData(restep_, &data), "ERKStepSetUserData (dense output)");
     // Its failures fall back to the interpolant (dky): not printed.
     check(ERKStepSetErrHandlerFn(restep_, ignore_arkode_message, nullptr), "ERKStepSetErrHandlerFn (dense output)");
@@ -137,10 +145,10 @@ class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
   }
 
   int order_;
-  void* restep_ = nullptr;      // the shortened step's own integrator (tables above kHermiteExactOrder)
+  void* restep_ = nullptr;      // the dense output's own integrator (tables above kHermiteExactOrder)
   N_Vector start_y_ = nullptr;  // the last step's start
   double start_t_ = 0.0;
-  long restep_rhs_ = 0;         // right-hand sides of the shortened steps, not yet counted
+  long restep_rhs_ = 0;         // right-hand sides of the dense output, not yet counted
 };
 
 }  // namespace
