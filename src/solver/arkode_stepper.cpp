@@ -96,8 +96,10 @@ class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
   // such a table integrates again from the step's start to t, with the same
   // table and tolerances, trying the whole way in one step: shorter than the
   // accepted step, so one step almost always passes, and error-controlled
-  // where it does not (one fixed step of ~0.5 s across singular_linkage's
-  // collinear pose left a grid row 2.8e-2 m off). The run's own steps are
+  // where it does not (a fixed step would not be: the run's steps can be
+  // long, 0.49 s across singular_linkage's collinear pose in euler/lagrange
+  // at rtol 1e-6, and the stages of a shorter one fall elsewhere). The
+  // run's own steps are
   // left as they were: stopping at each output time instead changed the
   // step-size controller's sequence and made the steps' own error 7x larger
   // on particle_pendulum.
