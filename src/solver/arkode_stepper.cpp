@@ -6,8 +6,12 @@
 #include <algorithm>
 #include <initializer_list>
 #include <memory>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include "ode_stepper.hpp"
+#include "rigidae/core/hermite.hpp"
 #include "rigidae/solver/integrators.hpp"
 #include "steppers.hpp"
 
@@ -99,10 +103,9 @@ class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
   // where it does not (a fixed step would not be: the run's steps can be
   // long, 0.49 s across singular_linkage's collinear pose in euler/lagrange
   // at rtol 1e-6, and the stages of a shorter one fall elsewhere). The
-  // run's own steps are
-  // left as they were: stopping at each output time instead changed the
-  // step-size controller's sequence and made the steps' own error 7x larger
-  // on particle_pendulum.
+  // run's own steps are left as they were: stopping at each output time
+  // instead changed the step-size controller's sequence and made the steps'
+  // own error 7x larger on particle_pendulum.
   int dky(double t, N_Vector out) override {
     const double t_now = current_time();
     if (!restep_ || !(t > start_t_) || t >= t_now) return SundialsStepper::dky(t, out);
@@ -110,22 +113,24 @@ class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
     // A right-hand side that cannot be evaluated at t itself (singular_linkage
     // in euler/lagrange at rtol 1e-6: the run steps from 0.12 s to 0.61 s over
     // its Euler charts' lock at 0.25 s, where the Lagrange form's matrix is
-    // singular and the grid has a row): a cubic Hermite interpolant between
-    // two integrated points 1 % of the step to either side, their
-    // derivatives from the right-hand side (error ~ (0.02 h)^4 / 384 x^(4)).
+    // singular and the grid has a row): the cubic Hermite interpolant
+    // (core/hermite.hpp) between two integrated points 1 % of the step to
+    // either side, their derivatives from the right-hand side (error
+    // ~ (0.02 h)^4 / 384 x^(4)).
     // ARKODE's own interpolant over the whole step put that row 2.8e-2 m off.
     const double d = 0.01 * (t_now - start_t_);
     const double ta = std::max(start_t_, t - d), tb = std::min(t_now, t + d);
     if (ta < t && t < tb && integrate_to(ta, ya_) >= 0 && integrate_to(tb, yb_) >= 0 &&
         rhs_callback(ta, ya_, fa_, data_) == 0 && rhs_callback(tb, yb_, fb_, data_) == 0) {
       restep_rhs_ += 2;
-      const double w = tb - ta, s = (t - ta) / w;
-      const double h00 = (1 + 2 * s) * (1 - s) * (1 - s), h10 = s * (1 - s) * (1 - s);
-      const double h01 = s * s * (3 - 2 * s), h11 = s * s * (s - 1);
-      const double *pa = NV_DATA_S(ya_), *pb = NV_DATA_S(yb_), *qa = NV_DATA_S(fa_), *qb = NV_DATA_S(fb_);
-      double* o = NV_DATA_S(out);
-      for (sunindextype k = 0; k < NV_LENGTH_S(out); ++k)
-        o[k] = h00 * pa[k] + h10 * w * qa[k] + h01 * pb[k] + h11 * w * qb[k];
+      const auto vec = [](N_Vector v) { return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(NV_DATA_S(v), NV_LENGTH_S(v))); };
+      const Eigen::VectorXd ya = vec(ya_), yb = vec(yb_), fa = vec(fa_), fb = vec(fb_);
+      std::vector<double> z;
+      std::vector<Eigen::VectorXd> c;
+      hermite_coefficients({ta, tb}, {&ya, &yb}, {&fa, &fb}, static_cast<int>(ya.size()), z, c);
+      Eigen::VectorXd value;
+      hermite_value(z, c, t, value, nullptr);
+      Eigen::Map<Eigen::VectorXd>(NV_DATA_S(out), NV_LENGTH_S(out)) = value;
       return 0;
     }
     return SundialsStepper::dky(t, out);  // nothing better: the interpolant
@@ -158,7 +163,6 @@ class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
     fa_ = N_VClone(x0);
     fb_ = N_VClone(x0);
     if (!start_y_ || !ya_ || !yb_ || !fa_ || !fb_) throw SolverError("N_VClone failed (dense output)");
-    N_VScale(1.0, x0, start_y_);
     restep_ = ERKStepCreate(rhs_callback, 0.0, x0, ctx);
     if (!restep_) throw SolverError("ERKStepCreate failed (dense output)");
     check(ERKStepSetTableName(restep_, method.arkode_name.c_str()), "ERKStepSetTableName (dense output)");

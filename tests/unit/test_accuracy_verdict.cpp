@@ -342,7 +342,7 @@ TEST_CASE("verdict: with the bridge across singular poses the companion keeps th
 // that finishes leaves the branch at a pose and the arbiters fail there, so
 // the verdict cannot tell which run is right and says so. (The run ended
 // 9.3e-6 rad off on the grid while ARKODE's degree-5 interpolant filled it;
-// with the shortened steps of arkode_stepper.cpp it is within 1e-9.)
+// integrated to each output time (arkode_stepper.cpp) it is within 1e-9.)
 TEST_CASE("verdict: companions that fail at a singular pose are followed by the linear/euler fallbacks") {
   const fs::path out = rigidae::test::fresh_temp_dir("verdict_fallbacks");
   const auto r = rigidae::test::run_cli("solve " + integrating_linkage("verdict_fallbacks") +

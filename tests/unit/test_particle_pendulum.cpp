@@ -121,7 +121,7 @@ TEST_CASE("particle pendulum: every scheme and integrator against the exact solu
   // 1.1e-6 m, index3 3e-4 m), the bound is twice the measurement, so a
   // regression still fails, and the run must warn about its energy drift
   // (index3: "must run and warn"). arkode-erk: 4.3e-8 m on every grid row
-  // (the shortened steps of arkode_stepper.cpp; its degree-5 interpolant
+  // (the grid integrated to each row, arkode_stepper.cpp; its degree-5 interpolant
   // left 1.7e-6 m between steps of ~0.045 s).
   struct Combo {
     const char* integrator;
@@ -156,8 +156,8 @@ TEST_CASE("particle pendulum: 100 periods, the phase error against the exact sol
   // Over 100 periods the phase error accumulates: measured at rtol = atol =
   // 1e-10 (the scene's), IDA's ggl 3.9e-6 m, above the issue's 1e-6 L (met
   // over 10 periods, see above); ggl at 1e-11 4.8e-7 m; projection (on its
-  // default integrator, arkode-erk) 4.0e-7 m (1.6e-5 m before the shortened
-  // steps filled the grid). Bounds: the 1e-6 L target where met, else twice
+  // default integrator, arkode-erk) 4.0e-7 m (1.6e-5 m before the grid was
+  // integrated to each row). Bounds: the 1e-6 L target where met, else twice
   // the measurement.
   struct Run {
     const char* scheme;
