@@ -202,7 +202,7 @@ std::vector<Setting> make_table() {
        .get = [](const Scene& s) -> Value { return s.solver.integrator; }});
   row({.scene_key = "solver.erk_method", .option = "--erk-method", .commands = kRun, .kind = Kind::Choice,
        .choices = erk_method_names,
-       .help = "arkode-erk's Butcher table: Fehlberg 7(8), Verner 6(5) or Dormand-Prince 5(4)",
+       .help = "arkode-erk's Butcher table: Prince-Dormand 8(7), Fehlberg 7(8), Verner 6(5) or Dormand-Prince 5(4)",
        .set = [](Scene& s, const Value& v) { s.solver.erk_method = word(v); },
        .get = [](const Scene& s) -> Value { return s.solver.erk_method; }});
 

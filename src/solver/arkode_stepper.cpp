@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "butcher_table.hpp"
 #include "ode_stepper.hpp"
 #include "rigidae/core/hermite.hpp"
 #include "rigidae/solver/integrators.hpp"
@@ -35,6 +36,23 @@ int arkode_postprocess_callback(realtype t, N_Vector y, void* user_data) {
     d.error = std::current_exception();
     return -1;
   }
+}
+
+// The run's Butcher table on an ERKStep memory: one of ARKODE's by name, or
+// one of rigidae's own (butcher_table.hpp), which ARKODE copies.
+void set_table(void* mem, const ErkMethodInfo& method, const char* what) {
+  if (!method.own_table) {
+    check(ERKStepSetTableName(mem, method.arkode_name.c_str()), what);
+    return;
+  }
+  const ButcherTable& t = method.own_table();
+  ARKodeButcherTable B = ARKodeButcherTable_Create(t.stages, t.order, t.embedded_order, const_cast<double*>(t.c.data()),
+                                                   const_cast<double*>(t.a.data()), const_cast<double*>(t.b.data()),
+                                                   const_cast<double*>(t.d.data()));
+  if (!B) throw SolverError(fmt::format("{}: ARKodeButcherTable_Create failed", what));
+  const int flag = ERKStepSetTable(mem, B);
+  ARKodeButcherTable_Free(B);
+  check(flag, what);
 }
 
 struct ErkStepCalls {
@@ -64,7 +82,7 @@ class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
   void configure(const ErkMethodInfo& method, N_Vector atol, const SolverSettings& opt, const TimeGrid& span,
                  CallbackData& data, int n_events) {
     set_common(atol, opt, span, data);
-    check(ERKStepSetTableName(mem_, method.arkode_name.c_str()), "ERKStepSetTableName");
+    set_table(mem_, method, "ERKStepSetTable");
     // Installed also without a projection (then a no-op): with a step
     // postprocess ARKODE 6.4 evaluates f afresh at each step's start instead
     // of reusing the last one, and its error estimates and step sizes are
@@ -165,7 +183,7 @@ class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
     if (!start_y_ || !ya_ || !yb_ || !fa_ || !fb_) throw SolverError("N_VClone failed (dense output)");
     restep_ = ERKStepCreate(rhs_callback, 0.0, x0, ctx);
     if (!restep_) throw SolverError("ERKStepCreate failed (dense output)");
-    check(ERKStepSetTableName(restep_, method.arkode_name.c_str()), "ERKStepSetTableName (dense output)");
+    set_table(restep_, method, "ERKStepSetTable (dense output)");
     check(ERKStepSVtolerances(restep_, opt.rtol, atol), "ERKStepSVtolerances (dense output)");
     check(ERKStepSetUserData(restep_, &data), "ERKStepSetUserData (dense output)");
     // Its failures fall back to the interpolant (dky): not printed.

@@ -7,6 +7,7 @@
 #include <algorithm>
 
 #include "rigidae/core/error.hpp"
+#include "butcher_table.hpp"
 #include "ode_stepper.hpp"
 #include "steppers.hpp"
 
@@ -25,13 +26,15 @@ const std::vector<IntegratorInfo>& integrators() {
   return table;
 }
 
-// ARKODE 6.4 ships no Verner 8(7) table: its eighth-order pair is
-// Fehlberg's 13-stage 7(8), its Verner table is the 8-stage 6(5).
+// ARKODE 6.4's eighth-order pair is Fehlberg's 13-stage 7(8), its Verner
+// table the 8-stage 6(5); Prince and Dormand's 8(7) is rigidae's own
+// (butcher_table.hpp, for the error estimate Fehlberg's lacks).
 const std::vector<ErkMethodInfo>& erk_methods() {
   static const std::vector<ErkMethodInfo> table = {
-      {"fehlberg78", "ARKODE_FEHLBERG_13_7_8", 8, 13},
-      {"verner65", "ARKODE_VERNER_8_5_6", 6, 8},
-      {"dopri5", "ARKODE_DORMAND_PRINCE_7_4_5", 5, 7},
+      {"dopri87", "", ode::prince_dormand_87, 8, 13},
+      {"fehlberg78", "ARKODE_FEHLBERG_13_7_8", nullptr, 8, 13},
+      {"verner65", "ARKODE_VERNER_8_5_6", nullptr, 6, 8},
+      {"dopri5", "ARKODE_DORMAND_PRINCE_7_4_5", nullptr, 5, 7},
   };
   return table;
 }

@@ -173,7 +173,7 @@ TEST_CASE("default integrator: summary.json and the report say which integrator 
   std::ofstream(file) << one_body("index1");
   const auto r = rigidae::test::run_cli("solve " + file + " --record none --out " + (dir / "run").string());
   REQUIRE(r.exit_code == 0);
-  CHECK(r.output.find("integrator    arkode-erk:fehlberg78 (default for a non-stiff scene with scheme index1: no "
+  CHECK(r.output.find("integrator    arkode-erk:dopri87 (default for a non-stiff scene with scheme index1: no "
                       "spring or damper; name [solver] integrator or --integrator to choose)") != std::string::npos);
   const auto summary = nlohmann::json::parse(rigidae::test::read_file(dir / "run" / "summary.json"));
   CHECK(summary["integrator"] == "arkode-erk");

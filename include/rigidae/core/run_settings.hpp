@@ -36,7 +36,7 @@ struct SolverSettings {
   // Integrator and explicit Runge-Kutta table (solver/integrators.hpp
   // lists the valid values and which schemes each integrator runs).
   std::string integrator = "ida";
-  std::string erk_method = "fehlberg78";
+  std::string erk_method = "dopri87";
   // Whether a scene file, the command line or a study named the integrator;
   // if not, settings::resolve_integrator chooses it by the default rule
   // (settings/default_integrator.hpp) and says why in integrator_choice

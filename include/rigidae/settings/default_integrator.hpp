@@ -14,7 +14,7 @@
 //      and dampers (m the reduced moment of the two bodies about the joint
 //      axis through their centres of mass: at most the true one, so the
 //      rates are upper bounds);
-//   3. otherwise arkode-erk (the scene's erk_method, Fehlberg 7(8) unless
+//   3. otherwise arkode-erk (the scene's erk_method, Prince-Dormand 8(7) unless
 //      named): the explicit table, on the scene's index1 or projection.
 // A scene's coordinates, form and scheme are the file's (default
 // quaternion/euler/ggl): the rule picks the integrator only.

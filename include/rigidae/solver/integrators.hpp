@@ -18,6 +18,7 @@ namespace rigidae {
 namespace ode {
 class Stepper;      // an ODE integrator behind the driver (src/solver/ode_stepper.hpp)
 struct StepperArgs;
+struct ButcherTable;
 }  // namespace ode
 
 struct IntegratorInfo {
@@ -31,7 +32,8 @@ struct IntegratorInfo {
 
 struct ErkMethodInfo {
   std::string name;         // rigidae's name
-  std::string arkode_name;  // ARKODE 6.4's table (ARKodeButcherTable_LoadERK)
+  std::string arkode_name;  // ARKODE 6.4's table (ARKodeButcherTable_LoadERK), or empty and:
+  const ode::ButcherTable& (*own_table)() = nullptr;  // a table ARKODE is given (src/solver/butcher_table.hpp)
   int order = 0;            // of the propagated solution
   int stages = 0;
 };
