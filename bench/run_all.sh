@@ -47,7 +47,7 @@
 #      -> bench/results/ode.jsonl
 #   The mechanism benchmarks, each with the arguments of its recorded run
 #   (docs/benchmarks.md):
-#   9. the heavy top on ARKODE's Fehlberg 7(8) against odeint's RKF78, 21
+#   9. the heavy top on ARKODE's Prince-Dormand 8(7) against odeint's RKF78, 21
 #      repeats and callgrind (bench/heavy_top_rkf78.sh) -> bench/results/heavy_top_rkf78.jsonl
 #  10. the pendulum over 1,000 periods, five runs, medians of 5
 #      (bench/long_run.py) -> bench/results/long_run.jsonl
