@@ -78,7 +78,7 @@ def errors(scene, rows, ref_rows):
     def dist(a, b):
         return math.sqrt(sum((x - y) ** 2 for x, y in zip(a, b)))
 
-    if scene in ("particle_pendulum", "pendulum_1000"):
+    if scene in ("particle_pendulum", "pendulum_1000", "pendulum_1000_pivot"):
         exact = exact_particle if scene == "particle_pendulum" else exact_quarter
         body = "bob"
         e = [dist((float(r[body + ".x"]), float(r[body + ".y"]), float(r[body + ".z"])), exact(j))
