@@ -141,7 +141,9 @@ class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
     if (ta < t && t < tb && integrate_to(ta, ya_) >= 0 && integrate_to(tb, yb_) >= 0 &&
         rhs_callback(ta, ya_, fa_, data_) == 0 && rhs_callback(tb, yb_, fb_, data_) == 0) {
       restep_rhs_ += 2;
-      const auto vec = [](N_Vector v) { return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(NV_DATA_S(v), NV_LENGTH_S(v))); };
+      const auto vec = [](N_Vector v) {
+        return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(NV_DATA_S(v), NV_LENGTH_S(v)));
+      };
       const Eigen::VectorXd ya = vec(ya_), yb = vec(yb_), fa = vec(fa_), fb = vec(fb_);
       std::vector<double> z;
       std::vector<Eigen::VectorXd> c;

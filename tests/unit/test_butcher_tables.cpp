@@ -39,7 +39,8 @@ std::vector<RootedTree> rooted_trees(const rigidae::ode::ButcherTable& t, int ma
           tree.gamma *= trees[c].gamma;
           for (int i = 0; i < s; ++i) {
             double a_phi = 0.0;
-            for (int j = 0; j < i; ++j) a_phi += t.a[static_cast<std::size_t>(i * s + j)] * trees[c].phi[static_cast<std::size_t>(j)];
+            for (int j = 0; j < i; ++j)
+              a_phi += t.a[static_cast<std::size_t>(i * s + j)] * trees[c].phi[static_cast<std::size_t>(j)];
             tree.phi[static_cast<std::size_t>(i)] *= a_phi;
           }
         }
