@@ -26,7 +26,7 @@ RunResult run_multibody(multibody::MultibodyProblem& problem, const Scene& scene
                               {scene.solver.integrator, scene.solver.erk_method,
                                {projection, scene.formulation.projection.every_step, projection_threshold(scene)}},
                               sink);
-  r.linear_solver = sparse ? "klu" : "dense";
+  r.linear_solver = ode.kkt_solver();
   return r;
 }
 

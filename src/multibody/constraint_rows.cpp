@@ -49,11 +49,40 @@ void evaluate_or_constant(const BodyState* st, const BodyVector& bv, VectorEval&
   }
 }
 
+// Row r of Phi_q and G gains c other^T [D, Wm] of one side's vector.
+void add_row(double c, const Vec3& other, const VectorEval& e, int r, BlockMatQ& phi_q, BlockMatV& G) {
+  for (int k = 0; k < e.D.cols(); ++k) phi_q(r, k) += c * other.dot(e.D.col(k));
+  for (int k = 0; k < e.Wm.cols(); ++k) G(r, k) += c * other.dot(e.Wm.col(k));
+}
+
 }  // namespace
 
 void evaluate_rows(const ConstraintRow* rows, int nr, const BlockSides& sides, BlockEval& out) {
   size_sides(sides, nr, out, false);
-  VectorEval ea, eb;
+  // A joint's rows name the same body vectors again and again (a spherical
+  // joint's three rows e_k . (p_b - p_a) both points in each): each distinct
+  // one is evaluated once per call. Exact: the same inputs, the same
+  // arithmetic, so the rows are bit for bit those of evaluating each term.
+  constexpr int kMemo = 6;
+  VectorEval memo[kMemo];
+  const BodyVector* keys[kMemo];
+  int n_memo = 0;
+  VectorEval ca, cb;
+  auto eval = [&](const BodyState* st, const BodyVector& bv, VectorEval& constant) -> const VectorEval& {
+    if (!st) {
+      evaluate_or_constant(nullptr, bv, constant);
+      return constant;
+    }
+    for (int k = 0; k < n_memo; ++k)
+      if (keys[k]->body == bv.body && keys[k]->point == bv.point && keys[k]->s == bv.s) return memo[k];
+    if (n_memo == kMemo) {  // more distinct vectors than a joint has: not kept
+      evaluate_vector(*st, bv, constant);
+      return constant;
+    }
+    keys[n_memo] = &bv;
+    evaluate_vector(*st, bv, memo[n_memo]);
+    return memo[n_memo++];
+  };
   for (int r = 0; r < nr; ++r) {
     out.phi(r) = rows[r].constant;
     for (int t = 0; t < rows[r].n_terms; ++t) {
@@ -61,19 +90,15 @@ void evaluate_rows(const ConstraintRow* rows, int nr, const BlockSides& sides, B
       int X, Y;
       const BodyState* sa = state_of(sides, term.a, X);
       const BodyState* sb = state_of(sides, term.b, Y);
-      evaluate_or_constant(sa, term.a, ea);
-      evaluate_or_constant(sb, term.b, eb);
+      const VectorEval& ea = eval(sa, term.a, ca);
+      const VectorEval& eb = eval(sb, term.b, cb);
       const double c = term.coeff;
       out.phi(r) += c * ea.value.dot(eb.value);
       out.cacc(r) += c * (eb.value.dot(ea.bias) + ea.value.dot(eb.bias) + 2.0 * ea.Wv.dot(eb.Wv));
-      if (sa) {
-        out.phi_q[X].row(r) += c * (eb.value.transpose() * ea.D);
-        out.G[X].row(r) += c * (eb.value.transpose() * ea.Wm);
-      }
-      if (sb) {
-        out.phi_q[Y].row(r) += c * (ea.value.transpose() * eb.D);
-        out.G[Y].row(r) += c * (ea.value.transpose() * eb.Wm);
-      }
+      // Column by column (3-vectors of fixed size): Eigen's product of a
+      // row with a matrix of run-time width costs several times more here.
+      if (sa) add_row(c, eb.value, ea, r, out.phi_q[X], out.G[X]);
+      if (sb) add_row(c, ea.value, eb, r, out.phi_q[Y], out.G[Y]);
     }
     for (int x = 0; x < 2; ++x)
       if (sides.state[x])

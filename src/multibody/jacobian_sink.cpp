@@ -24,11 +24,11 @@ SparsityPattern JacobianSink::finish_recording() {
   std::vector<int> group_of_column(n, -1);
   for (int g = 0; g < ng; ++g)
     for (int c = 0; c < groups_[g].size; ++c) group_of_column[groups_[g].offset + c] = g;
-  pair_start_.clear();
+  pair_start_.assign(ng, {});
   bases_.clear();
   for (int cg = 0; cg < ng; ++cg)
     for (int rg : rows_of[cg]) {
-      pair_start_[key(rg, cg)] = static_cast<std::int64_t>(bases_.size());
+      pair_start_[rg].emplace_back(cg, static_cast<std::int64_t>(bases_.size()));
       bases_.resize(bases_.size() + groups_[cg].size, 0);
     }
   for (int c = 0; c < n; ++c) {
@@ -37,13 +37,21 @@ SparsityPattern JacobianSink::finish_recording() {
     if (cg < 0) continue;
     const int local = c - groups_[cg].offset;
     for (int rg : rows_of[cg]) {
-      bases_[pair_start_[key(rg, cg)] + local] = p.nnz();
+      bases_[pair_start(rg, cg) + local] = p.nnz();
       for (int i = 0; i < groups_[rg].size; ++i) p.rows.push_back(groups_[rg].offset + i);
     }
   }
   p.col_start[n] = p.nnz();
   mode_ = Mode::Dense;
   return p;
+}
+
+std::unique_ptr<JacobianSink> JacobianSink::remapped(const std::vector<std::int64_t>& position) const {
+  auto out = std::make_unique<JacobianSink>(*this);
+  for (std::int64_t& b : out->bases_) b = position[static_cast<std::size_t>(b)];
+  out->mode_ = Mode::Sparse;
+  out->values_ = nullptr;
+  return out;
 }
 
 void JacobianSink::add_diagonal(int g, double s) {
@@ -55,7 +63,7 @@ void JacobianSink::add_diagonal(int g, double s) {
       for (int i = 0; i < m; ++i) dense_[static_cast<std::size_t>(groups_[g].offset + i) * (n_ + 1)] += s;
       return;
     case Mode::Sparse: {
-      const std::int64_t* base = bases_.data() + pair_start_.find(key(g, g))->second;
+      const std::int64_t* base = bases_.data() + pair_start(g, g);
       for (int i = 0; i < m; ++i) values_[base[i] + i] += s;
       return;
     }

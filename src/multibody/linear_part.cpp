@@ -52,8 +52,13 @@ void MultibodyProblem::assemble_linear_part(double t, const double* y, JacobianS
 
 void MultibodyProblem::linear_part_sparse(double t, const double* y, double* values, bool just_evaluated) {
   std::fill(values, values + pattern_.nnz(), 0.0);
-  sink_->start_sparse(values);
-  assemble_linear_part(t, y, *sink_, just_evaluated);
+  linear_part_into(t, y, *sink_, values, just_evaluated);
+}
+
+void MultibodyProblem::linear_part_into(double t, const double* y, JacobianSink& sink, double* values,
+                                        bool just_evaluated) {
+  sink.start_sparse(values);
+  assemble_linear_part(t, y, sink, just_evaluated);
 }
 
 void MultibodyProblem::follow_motion(double t, const double* y) {

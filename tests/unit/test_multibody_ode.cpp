@@ -94,7 +94,53 @@ TEST_CASE("multibody ode: x' and lambda make the DAE residual vanish, dense and 
         CHECK(dae_residual_of_ode(p, dense, 0.3, xs, &xd_dense) < 1e-8);
         CHECK(dae_residual_of_ode(p, sparse, 0.3, xs, &xd_sparse) < 1e-8);
         CHECK((xd_dense - xd_sparse).cwiseAbs().maxCoeff() < 1e-9 * (1.0 + xd_dense.cwiseAbs().maxCoeff()));
+        // The sparse path's solver: the Schur complement of M, every body's
+        // M being positive definite here (the Euler form's diag(m I, J), the
+        // paper's regular mass matrices of the Lagrange form).
+        CHECK(sparse.schur());
+        CHECK(std::string(sparse.kkt_solver()) == "schur");
+        MultibodyOde klu(p, true, s.source, true, true, /*schur=*/false);
+        Eigen::VectorXd xd_klu;
+        CHECK(dae_residual_of_ode(p, klu, 0.3, xs, &xd_klu) < 1e-8);
+        CHECK(!klu.schur());
+        CHECK((xd_klu - xd_sparse).cwiseAbs().maxCoeff() < 1e-9 * (1.0 + xd_klu.cwiseAbs().maxCoeff()));
+        CHECK((klu.multipliers() - sparse.multipliers()).cwiseAbs().maxCoeff() <
+              1e-9 * (1.0 + klu.multipliers().cwiseAbs().maxCoeff()));
       }
+}
+
+TEST_CASE("multibody ode: the Schur complement with rows set aside (redundant loops) solves the KKT system as KLU does") {
+  // The planar four-bar of four revolutes and Bricard's 6R loop: rows set
+  // aside as redundant (their multipliers held at 0); S's rows there are
+  // the identity's. Against KLU on the whole KKT matrix and the DAE residual.
+  for (const char* file : {"four_bar_revolute.toml", "bricard.toml"})
+    for (Coordinates c : kCoordinates) {
+      CAPTURE(file);
+      CAPTURE(to_string(c));
+      const Scene s = shipped(file, c, Equations::Euler, "index1");
+      MultibodyProblem p(s);
+      REQUIRE(!p.redundancy().dropped.empty());
+      MultibodyOde schur(p, true, s.source), klu(p, true, s.source, true, true, false);
+      Eigen::VectorXd x;
+      schur.initial_state(s.time.start, x);
+      for (int i = 0; i < x.size(); ++i) x[i] += 1e-4 * std::cos(2.0 + 3.0 * i);
+      Eigen::VectorXd a, b;
+      CHECK(dae_residual_of_ode(p, schur, 0.1, x, &a) < 1e-8);
+      CHECK(schur.schur());
+      CHECK(dae_residual_of_ode(p, klu, 0.1, x, &b) < 1e-8);
+      CHECK((a - b).cwiseAbs().maxCoeff() < 1e-9 * (1.0 + b.cwiseAbs().maxCoeff()));
+      // The rows set aside carry no multiplier, on both paths.
+      Eigen::VectorXd y;
+      schur.observe(0.1, x.data(), y);
+      int held = 0;
+      for (const multibody::ConstraintBlock& blk : p.blocks())
+        for (int r = 0; r < blk.nr; ++r)
+          if (!blk.active[r]) {
+            CHECK(y[p.groups()[blk.lambda_group].offset + r] == 0.0);
+            ++held;
+          }
+      CHECK(held == static_cast<int>(p.redundancy().dropped.size()));
+    }
 }
 
 TEST_CASE("multibody ode: the heavy top on a spherical joint accelerates as Euler's equations about the pivot say") {
@@ -129,11 +175,13 @@ TEST_CASE("multibody ode: the heavy top on a spherical joint accelerates as Eule
   CHECK((a_x - a).norm() < 1e-9 * (1.0 + a.norm()));
 }
 
-TEST_CASE("multibody ode: rhs allocates nothing (dense and KLU)") {
-  for (bool sparse : {false, true}) {
-    const Scene s = shipped("four_bar.toml", Coordinates::Quaternion, Equations::Lagrange, "index1");
+TEST_CASE("multibody ode: rhs allocates nothing (dense, KLU and the Schur complement)") {
+  for (int path = 0; path < 3; ++path) {
+    const bool sparse = path > 0;
+    const Scene s = shipped("four_bar.toml", Coordinates::Quaternion, path == 2 ? Equations::Euler : Equations::Lagrange,
+                            "index1");
     MultibodyProblem p(s);
-    MultibodyOde ode(p, sparse, s.source);
+    MultibodyOde ode(p, sparse, s.source, true, true, /*schur=*/path == 2);
     Eigen::VectorXd x, xdot(ode.size());
     ode.initial_state(0.0, x);
     REQUIRE(ode.rhs(0.0, x.data(), xdot.data()));
@@ -143,6 +191,7 @@ TEST_CASE("multibody ode: rhs allocates nothing (dense and KLU)") {
     const long n = test::stop_counting_allocations();
     CHECK(ok);
     CHECK(n == 0);
+    CHECK(ode.schur() == (path == 2));
   }
 }
 

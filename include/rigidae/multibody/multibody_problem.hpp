@@ -429,6 +429,10 @@ class MultibodyProblem final : public DaeProblem {
   // (t, y), so the bodies' terms and the blocks' rows are reused, not
   // evaluated again (the ODE form's right-hand side: half its cost).
   void linear_part_sparse(double t, const double* y, double* values, bool just_evaluated = false);
+  // The same through another sink (sparsity_sink().remapped(...): the ODE
+  // form's KKT block written in place), into values the caller has zeroed.
+  void linear_part_into(double t, const double* y, JacobianSink& sink, double* values, bool just_evaluated);
+  const JacobianSink& sparsity_sink() const { return *sink_; }
   // After an accepted step of an ODE run: force elements with a state of
   // their own (a torsion angle's branch) follow the motion (after_step's part
   // that is not a restart).
