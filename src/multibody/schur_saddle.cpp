@@ -4,14 +4,10 @@
 #include <Eigen/OrderingMethods>
 
 #include <algorithm>
-#include <cmath>
 
 namespace rigidae::multibody {
 
 namespace {
-
-// Whose range holds KKT unknown k (-1: none).
-int owner(const std::vector<int>& of, int k) { return k < static_cast<int>(of.size()) ? of[k] : -1; }
 
 constexpr double kSingularPivotRatio = 1e-13;  // multibody_ode.hpp, "Rank"
 
@@ -48,7 +44,7 @@ std::unique_ptr<SchurSaddle> SchurSaddle::make(const std::vector<KktRange>& bodi
   for (int c = 0; c < n; ++c)
     for (int e = col_start[c]; e < col_start[c + 1]; ++e) {
       const int r = rows[e];
-      const int br = owner(body_of, r), bc = owner(body_of, c), jc = owner(block_of, c);
+      const int br = body_of[r], bc = body_of[c], jc = block_of[c];  // -1: not a body's, not a block's
       if (br >= 0 && bc >= 0) {
         if (br != bc) return nullptr;  // the mass matrix couples two bodies
         const KktRange& v = bodies[br];

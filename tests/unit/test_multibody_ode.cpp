@@ -65,7 +65,8 @@ double dae_residual_of_ode(MultibodyProblem& p, MultibodyOde& ode, double t, con
 }  // namespace
 
 TEST_CASE("multibody ode: x' and lambda make the DAE residual vanish, dense and KLU, every representation") {
-  for (const char* file : {"double_pendulum.toml", "four_bar.toml", "slider_mechanism.toml", "chain_10.toml"})
+  for (const char* file : {"double_pendulum.toml", "four_bar.toml", "slider_mechanism.toml", "chain_10.toml",
+                           "crank_slider_driven.toml", "particle_pendulum.toml"})
     for (Coordinates c : kCoordinates)
       for (Equations e : kEquations) {
         CAPTURE(file);
