@@ -39,8 +39,9 @@ if ((remake)) || [ ! -f "$ref" ]; then
   "$py" "$here/rigidae_multibody.py" reference "${s[@]}" --rigidae "$rigidae" --rtol 1e-10 \
     --combination quaternion/euler/projection@arkode-erk --cross linear/euler/index1@arkode-erk --out "$ref"
 fi
-"$py" "$here/rigidae_multibody.py" run "${s[@]}" --rigidae "$rigidae" --combination quaternion/euler/projection@arkode-erk \
-  --settings 1e-5,1e-6,1e-7,1e-8,1e-9 --repeats 1 --reference "$ref" >>"$tmp"
+"$py" "$here/rigidae_multibody.py" run "${s[@]}" --rigidae "$rigidae" \
+  --combination quaternion/euler/projection@arkode-erk --settings 1e-5,1e-6,1e-7,1e-8,1e-9 --repeats 1 \
+  --reference "$ref" >>"$tmp"
 "$build/simbody_chain" "${s[@]}" --repeats 1 --budget 1 --methods RungeKuttaMerson,RungeKuttaFeldberg \
   --settings 1e-5,1e-6,1e-7,1e-8,1e-9,1e-10 --reference "$ref" >>"$tmp"
 mv "$tmp" "$out"

@@ -151,7 +151,8 @@ MultibodyOde::MultibodyOde(MultibodyProblem& problem, bool sparse, const std::st
     for (const UnknownGroup& g : problem.groups()) largest = std::max(largest, g.size);
     const auto dump = static_cast<std::int64_t>(k_from_.size());
     std::vector<std::int64_t> position(static_cast<std::size_t>(p.nnz()), dump);
-    for (std::size_t k = 0; k < k_from_.size(); ++k) position[static_cast<std::size_t>(k_from_[k])] = static_cast<std::int64_t>(k);
+    for (std::size_t k = 0; k < k_from_.size(); ++k)
+      position[static_cast<std::size_t>(k_from_[k])] = static_cast<std::int64_t>(k);
     kkt_sink_ = problem.sparsity_sink().remapped(position);
     kkt_values_.setZero(static_cast<Eigen::Index>(k_from_.size()) + largest);
     if (schur && n_lambda_ > 0) make_schur(pos, ap, ai);
@@ -174,7 +175,8 @@ void MultibodyOde::make_schur(const std::vector<int>& pos, const std::vector<int
   auto range = [&](const UnknownGroup& g) {
     const KktRange r{pos[g.offset], g.size};
     for (int k = 0; k < g.size; ++k)
-      if (pos[g.offset + k] != r.start + k) throw SolverError("MultibodyOde: a group is not contiguous in the KKT order");
+      if (pos[g.offset + k] != r.start + k)
+        throw SolverError("MultibodyOde: a group is not contiguous in the KKT order");
     return r;
   };
   std::vector<KktRange> bodies, blocks;

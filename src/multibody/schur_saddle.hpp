@@ -18,7 +18,9 @@
 // edges. It is factorised by a sparse LDL^T (Eigen's simplicial one) in a
 // fill-reducing order (AMD on S's pattern) chosen once; S is assembled in
 // that order (upper triangle) straight from the per-body products, so a
-// factorisation copies nothing and allocates nothing once sized.
+// factorisation copies nothing and allocates nothing up to 16,384
+// multipliers (5,461 spherical joints); above that Eigen's LDL^T takes its
+// work vectors from the heap (EIGEN_STACK_ALLOCATION_LIMIT, 128 KiB).
 //
 // Against KLU on the whole KKT matrix (velocities and multipliers, with
 // partial pivoting) it factorises a matrix of the multipliers' size only,

@@ -110,7 +110,7 @@ TEST_CASE("multibody ode: x' and lambda make the DAE residual vanish, dense and 
       }
 }
 
-TEST_CASE("multibody ode: the Schur complement with rows set aside (redundant loops) solves the KKT system as KLU does") {
+TEST_CASE("multibody ode: the Schur complement with rows set aside (redundant loops) solves as KLU does") {
   // The planar four-bar of four revolutes and Bricard's 6R loop: rows set
   // aside as redundant (their multipliers held at 0); S's rows there are
   // the identity's. Against KLU on the whole KKT matrix and the DAE residual.
@@ -179,8 +179,8 @@ TEST_CASE("multibody ode: the heavy top on a spherical joint accelerates as Eule
 TEST_CASE("multibody ode: rhs allocates nothing (dense, KLU and the Schur complement)") {
   for (int path = 0; path < 3; ++path) {
     const bool sparse = path > 0;
-    const Scene s = shipped("four_bar.toml", Coordinates::Quaternion, path == 2 ? Equations::Euler : Equations::Lagrange,
-                            "index1");
+    const Equations e = path == 2 ? Equations::Euler : Equations::Lagrange;
+    const Scene s = shipped("four_bar.toml", Coordinates::Quaternion, e, "index1");
     MultibodyProblem p(s);
     MultibodyOde ode(p, sparse, s.source, true, true, /*schur=*/path == 2);
     Eigen::VectorXd x, xdot(ode.size());
