@@ -54,7 +54,7 @@ def main():
         ax.set_ylabel("wall time (s), median of repeats")
         ax.grid(True, which="major", alpha=0.3)
         ax.legend(fontsize=7, loc="upper left")
-    fig.suptitle("Multibody: rigidae (absolute coordinates, IDA) vs Simbody and MuJoCo (joint coordinates); "
+    fig.suptitle("Multibody: rigidae (absolute coordinates; IDA, and ARKODE where @arkode-erk) vs Simbody and MuJoCo (joint coordinates); "
                  "more accurate to the right", fontsize=10)
     fig.tight_layout()
     out = pathlib.Path(args.out)
