@@ -14,8 +14,8 @@
 //   S lambda = G M^-1 r_v - r_l / w_A,   v' = M^-1 (r_v - G^T lambda).
 // S is symmetric positive definite while G has full row rank (M_b > 0),
 // and its pattern joins two multiplier blocks only where they share a body:
-// for a chain, 3 x 3 blocks on three diagonals, for a tree the tree's
-// edges. It is factorised by a sparse LDL^T (Eigen's simplicial one) in a
+// for a chain, 3 x 3 blocks on three diagonals; in general, joints that
+// meet at a body. It is factorised by a sparse LDL^T (Eigen's simplicial one) in a
 // fill-reducing order (AMD on S's pattern) chosen once; S is assembled in
 // that order (upper triangle) straight from the per-body products, so a
 // factorisation copies nothing and allocates nothing up to 16,384
