@@ -181,7 +181,6 @@ void MultibodyOde::make_schur(const std::vector<int>& pos, const std::vector<int
   };
   std::vector<KktRange> bodies, blocks;
   for (const BodyModel& b : problem_.bodies()) bodies.push_back(range(problem_.groups()[b.v_group]));
-  std::sort(bodies.begin(), bodies.end(), [](const KktRange& a, const KktRange& b) { return a.start < b.start; });
   lambda_block_.assign(n_lambda_, -1);
   lambda_row_.assign(n_lambda_, -1);
   for (int j = 0; j < static_cast<int>(problem_.blocks().size()); ++j) {
@@ -192,10 +191,12 @@ void MultibodyOde::make_schur(const std::vector<int>& pos, const std::vector<int
       lambda_row_[r.start - nv_ + k] = k;
     }
   }
-  std::sort(blocks.begin(), blocks.end(), [](const KktRange& a, const KktRange& b) { return a.start < b.start; });
   schur_ = SchurSaddle::make(bodies, blocks, col_start, rows);
   active_.assign(n_lambda_, 1);
-  inv_weight_.assign(n_lambda_, 1.0);
+  // w_A is the scheme's, fixed when the problem is assembled.
+  inv_weight_.resize(n_lambda_);
+  for (int k = 0; k < n_lambda_; ++k)
+    inv_weight_[k] = 1.0 / problem_.blocks()[lambda_block_[k]].lambda_rows.acceleration;
 }
 
 void MultibodyOde::initial_state(double t0, Eigen::VectorXd& x) {
@@ -219,11 +220,8 @@ bool MultibodyOde::factorise(double t, const double* x) {
     problem_.linear_part_into(t, y_.data(), *kkt_sink_, kkt_values_.data(), /*just_evaluated=*/true);
     schur_used_ = false;
     if (schur_) {
-      for (int k = 0; k < n_lambda_; ++k) {
-        const ConstraintBlock& blk = problem_.blocks()[lambda_block_[k]];
-        active_[k] = blk.active[lambda_row_[k]];
-        inv_weight_[k] = 1.0 / blk.lambda_rows.acceleration;
-      }
+      // The subset of rows set aside may change after any step (row_subset.cpp).
+      for (int k = 0; k < n_lambda_; ++k) active_[k] = problem_.blocks()[lambda_block_[k]].active[lambda_row_[k]];
       switch (schur_->factorise(kkt_values_.data(), active_.data())) {
         case SchurSaddle::Outcome::Factorised: return schur_used_ = true;
         case SchurSaddle::Outcome::NotApplicable: schur_.reset(); break;  // KLU from now on
