@@ -604,13 +604,6 @@ class MultibodyReader {
     if (assemble) {
       spec.assembly.requested = r_.boolean(*assemble, "mechanism.assemble");
       spec.assembly.where = where(*assemble);
-      for (const BodySpec& b : spec.bodies)
-        if (spec.assembly.requested && b.pivot_W)
-          r_.fail(*assemble, fmt::format("'mechanism.assemble' = true with body '{}' held at a pivot: an assembled "
-                                         "start does not move pivoted bodies yet; place the bodies on their joints "
-                                         "and leave 'assemble' out, or hold the body by a spherical joint to the "
-                                         "ground instead of 'pivot'",
-                                         b.name));
     }
     if (!hold) return;
     if (assemble && !spec.assembly.requested)

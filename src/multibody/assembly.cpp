@@ -27,6 +27,15 @@ struct Pose {
   Mat3 R;
 };
 
+// A body held at a pivot o turns about it only: x = o + R c, c (body frame)
+// fixed, so its unknowns are dtheta alone and a point's gradient carries the
+// lever from the pivot (its translation columns stay zero).
+struct PivotOf {
+  bool pivoted = false;
+  Vec3 o = Vec3::Zero();
+  Vec3 c = Vec3::Zero();
+};
+
 // One row of one joint, with its unit scale (L for rows with a point, 1 else).
 struct Row {
   int joint;
@@ -41,17 +50,20 @@ Vec3 space_vector(const BodyVector& u, const std::vector<Pose>& poses) {
 }
 
 // d(space vector)/d(dx, dtheta) of u's body, times coeff * other, added to
-// the row's gradient (6 columns per body).
+// the row's gradient (6 columns per body). A pivoted body's point turns with
+// its lever from the pivot, x + R s - o, and has no translation columns.
 void add_gradient(const BodyVector& u, const Vec3& other, double coeff, const std::vector<Pose>& poses,
-                  std::vector<std::pair<int, double>>& grad) {
+                  const std::vector<PivotOf>& pivots, std::vector<std::pair<int, double>>& grad) {
   if (u.body == kGround) return;
-  const Pose& p = poses[static_cast<std::size_t>(u.body)];
-  const Vec3 Rs = p.R * u.s;
+  const auto b = static_cast<std::size_t>(u.body);
+  const Pose& p = poses[b];
+  const bool pivoted = pivots[b].pivoted;
+  const Vec3 lever = !u.point ? Vec3(p.R * u.s) : pivoted ? Vec3(p.x - pivots[b].o + p.R * u.s) : Vec3(p.R * u.s);
   const int o = 6 * u.body;
-  if (u.point)
+  if (u.point && !pivoted)
     for (int k = 0; k < 3; ++k) grad.emplace_back(o + k, coeff * other(k));
-  // d(R s) = dtheta x R s: other . (dtheta x Rs) = dtheta . (Rs x other)
-  const Vec3 g = Rs.cross(other);
+  // d(r) = dtheta x r: other . (dtheta x r) = dtheta . (r x other)
+  const Vec3 g = lever.cross(other);
   for (int k = 0; k < 3; ++k) grad.emplace_back(o + 3 + k, coeff * g(k));
 }
 
@@ -77,7 +89,18 @@ class Assembler {
       for (const ConstraintRow& r : rows_of_joint_[j]) rows_.push_back({j, &r, has_point(r) ? L_ : 1.0});
     held_.assign(nb_, 0);
     for (int b : spec.assembly.held) held_[b] = 1;
-    for (const BodySpec& b : spec.bodies) poses_.push_back({b.x0_W, b.R0_WB});
+    for (const BodySpec& b : spec.bodies) {
+      PivotOf pv;
+      if (b.pivot_W) {
+        // The lever is the body's geometry: taken from the given pose (a
+        // guess may be any rotation about the pivot), kept while it turns.
+        pv = {true, *b.pivot_W, b.com_from_pivot_B.value_or(Vec3(b.R0_WB.transpose() * (b.x0_W - *b.pivot_W)))};
+        poses_.push_back({pv.o + b.R0_WB * pv.c, b.R0_WB});
+      } else {
+        poses_.push_back({b.x0_W, b.R0_WB});
+      }
+      pivots_.push_back(pv);
+    }
   }
 
   AssemblyReport run() {
@@ -87,7 +110,7 @@ class Assembler {
     const std::vector<Pose> given = poses_;
     Eigen::VectorXd phi = misses();
     rep.initial_miss = largest_unscaled(phi);
-    double merit = phi.cwiseAbs().maxCoeff();
+    double merit = phi.size() > 0 ? phi.cwiseAbs().maxCoeff() : 0.0;  // no rows: nothing to assemble
     for (int it = 0; it < kMaxIterations && merit > kConverged; ++it) {
       const Sparse G = gradient();
       const Eigen::VectorXd dz = least_change(G, phi, false);
@@ -130,6 +153,10 @@ class Assembler {
       rate = G * V;
     }
     rep.final_velocity_miss = largest_unscaled(rate);
+    // A pivoted body's centre of mass moves with its rotation about the pivot.
+    for (int i = 0; i < nb_; ++i)
+      if (pivots_[i].pivoted)
+        V.segment<3>(6 * i) = Vec3(V.segment<3>(6 * i + 3)).cross(poses_[i].x - pivots_[i].o);
 
     for (int i = 0; i < nb_; ++i) {
       BodySpec& b = spec_.bodies[i];
@@ -147,6 +174,7 @@ class Assembler {
       b.R0_WB = poses_[i].R;
       b.v0_W = V.segment<3>(6 * i);
       b.omega0_B = poses_[i].R.transpose() * omega_W;
+      if (pivots_[i].pivoted) b.com_from_pivot_B = pivots_[i].c;
     }
     rep.note = describe(rep);
     return rep;
@@ -183,8 +211,8 @@ class Assembler {
       for (int t = 0; t < row.n_terms; ++t) {
         const DotTerm& term = row.terms[t];
         const Vec3 a = space_vector(term.a, poses_), b = space_vector(term.b, poses_);
-        add_gradient(term.a, b, term.coeff, poses_, grad);
-        add_gradient(term.b, a, term.coeff, poses_, grad);
+        add_gradient(term.a, b, term.coeff, poses_, pivots_, grad);
+        add_gradient(term.b, a, term.coeff, poses_, pivots_, grad);
       }
       for (const auto& [c, v] : grad) trip.emplace_back(r, c, v / rows_[r].scale);
     }
@@ -196,15 +224,22 @@ class Assembler {
   // W^-1 as a sparse block-diagonal matrix. A held body's blocks are zero
   // (its pose and angular velocity stay as given), except its translation at
   // the velocity level: its centre-of-mass velocity follows its joints (a
-  // crank needs only its angular velocity).
+  // crank needs only its angular velocity). A pivoted body has no
+  // translation block; its rotation block is the inverse inertia about the
+  // pivot, J_o = J_c + m (|c|^2 I - c c^T).
   Sparse inverse_metric(bool velocity_level) const {
     std::vector<Triplet> trip;
     for (int i = 0; i < nb_; ++i) {
       const BodySpec& b = spec_.bodies[i];
+      const PivotOf& pv = pivots_[i];
       if (held_[i] && !velocity_level) continue;
-      for (int k = 0; k < 3; ++k) trip.emplace_back(6 * i + k, 6 * i + k, 1.0 / b.mass);
+      if (!pv.pivoted)
+        for (int k = 0; k < 3; ++k) trip.emplace_back(6 * i + k, 6 * i + k, 1.0 / b.mass);
       if (held_[i] || b.particle) continue;  // a particle has no rotation: its angle columns stay zero
-      const Mat3 Jinv = poses_[i].R * b.inertia_com.inverse() * poses_[i].R.transpose();
+      const Mat3 J = pv.pivoted ? Mat3(b.inertia_com + b.mass * (pv.c.squaredNorm() * Mat3::Identity() -
+                                                                   pv.c * pv.c.transpose()))
+                                : b.inertia_com;
+      const Mat3 Jinv = poses_[i].R * J.inverse() * poses_[i].R.transpose();
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) trip.emplace_back(6 * i + 3 + r, 6 * i + 3 + c, Jinv(r, c));
     }
@@ -236,11 +271,12 @@ class Assembler {
   void move(const Eigen::VectorXd& dz, double step) {
     for (int i = 0; i < nb_; ++i) {
       if (held_[i]) continue;
-      poses_[i].x += step * dz.segment<3>(6 * i);
+      poses_[i].x += step * dz.segment<3>(6 * i);  // zero for a pivoted body (no translation columns)
       const Vec3 dtheta = step * dz.segment<3>(6 * i + 3);
       const double angle = dtheta.norm();
       if (angle > 0.0)
         poses_[i].R = so3::nearest_rotation(so3::axis_angle_to_matrix(dtheta / angle, angle) * poses_[i].R);
+      if (pivots_[i].pivoted) poses_[i].x = pivots_[i].o + poses_[i].R * pivots_[i].c;
     }
   }
 
@@ -285,6 +321,7 @@ class Assembler {
   std::vector<Row> rows_;
   std::vector<char> held_;
   std::vector<Pose> poses_;
+  std::vector<PivotOf> pivots_;
 };
 
 }  // namespace

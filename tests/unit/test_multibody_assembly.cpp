@@ -5,11 +5,16 @@
 // - the planar four-bar's closure in closed form (circle intersection) at
 //   other crank angles, and its rate by a central difference of the closure;
 // - a loop that cannot close (pivots farther apart than the links reach) is
-//   refused at a joint; bad [mechanism] keys are positioned errors.
+//   refused at a joint; bad [mechanism] keys are positioned errors;
+// - the same four-bar with its rocker held at a pivot (turning about D, no
+//   joint D) assembles onto the same closure and moves as the revolute one.
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <map>
+#include <vector>
 #include <string>
 
 #include <fmt/format.h>
@@ -69,6 +74,27 @@ std::string at_crank_angle(double phi) {
   replace("position = [0.05000000000000002, 0.0, 0.08660254037844387]",
           fmt::format("position = [{:.17g}, 0.0, {:.17g}]", centre(0), centre(2)));
   replace("angle = -1.0471975511965976", fmt::format("angle = {:.17g}", -phi));
+  return text;
+}
+
+// four_bar_assembled.toml with the rocker held at a pivot at D instead of
+// by the revolute D: the revolute C keeps its axis along the coupler's, so
+// the mechanism is the same. Its guess turns about D to rocker_angle (the
+// lever, the rocker's centre 0.2 m from D along its x axis, is the pose's).
+std::string with_pivoted_rocker(std::string text, double rocker_angle = -1.2) {
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    const std::size_t at = text.find(from);
+    REQUIRE(at != std::string::npos);
+    text.replace(at, from.size(), to);
+  };
+  const Vec3 centre = Vec3(0.45, 0, 0) + 0.2 * Vec3(std::cos(rocker_angle), 0.0, -std::sin(rocker_angle));
+  replace("position = [0.50, 0.0, 0.20]\naxis_angle = { axis = [0.0, 1.0, 0.0], angle = -1.2 }",
+          fmt::format("position = [{:.17g}, 0.0, {:.17g}]\naxis_angle = {{ axis = [0.0, 1.0, 0.0], angle = {:.17g} }}"
+                      "\npivot = [0.45, 0.0, 0.0]",
+                      centre(0), centre(2), rocker_angle));
+  const std::size_t d = text.find("[[joints]]\nname = \"D\"");
+  REQUIRE(d != std::string::npos);
+  text.erase(d, text.find("[gravity]") - d);
   return text;
 }
 
@@ -133,6 +159,77 @@ TEST_CASE("an assembled four-bar matches the closed-form loop closure at other c
     CHECK((spec.bodies[0].x0_W - crank_centre).norm() < 1e-15);
     CHECK((spec.bodies[0].v0_W - Vec3(0, 6, 0).cross(crank_centre)).norm() < 1e-12);
   }
+}
+
+TEST_CASE("a rocker held at a pivot assembles onto the closed-form closure, turning about the pivot only") {
+  const Vec3 D(0.45, 0.0, 0.0);
+  for (double deg : {60.0, 150.0, 250.0}) {
+    CAPTURE(deg);
+    const double phi = deg * M_PI / 180.0;
+    Scene scene = io::parse_scene(with_pivoted_rocker(at_crank_angle(phi)), "fb.toml");
+    MultibodySpec& spec = *scene.multibody;
+    REQUIRE(spec.bodies[2].pivot_W);
+    REQUIRE(spec.joints.size() == 3);
+    const multibody::AssemblyReport ar = multibody::assemble_start(spec);
+    REQUIRE(ar.done);
+    CHECK(ar.final_miss < 1e-14);
+    const Closure c = closure(phi);
+    const BodySpec& rocker = spec.bodies[2];
+    CHECK((spec.bodies[1].x0_W - 0.5 * (c.B + c.C)).norm() < 1e-12);
+    CHECK((rocker.x0_W - 0.5 * (c.C + D)).norm() < 1e-12);
+    CHECK(std::abs(std::remainder(planar_angle(rocker.R0_WB) - std::atan2((c.C - D)(2), (c.C - D)(0)), 2 * M_PI)) <
+          1e-12);
+    // It turned about D: its lever is still 0.2 m along its own x axis.
+    REQUIRE(rocker.com_from_pivot_B);
+    CHECK((*rocker.com_from_pivot_B - Vec3(0.2, 0.0, 0.0)).norm() < 1e-15);
+    CHECK((rocker.x0_W - (D + rocker.R0_WB * *rocker.com_from_pivot_B)).norm() < 1e-15);
+    CHECK(ar.bodies[2].turned_rad > 0.1);
+    // Rates as in the revolute four-bar (central differences of the
+    // closure), the centre's velocity omega x (x - D).
+    const double hstep = 1e-5;
+    const auto psi = [&](double f) {
+      const Closure k = closure(f);
+      return std::atan2((k.C - D)(2), (k.C - D)(0));
+    };
+    const double dpsi = (psi(phi + hstep) - psi(phi - hstep)) / (2 * hstep);
+    const Vec3 omega = rocker.R0_WB * rocker.omega0_B;
+    CHECK(omega(1) == doctest::Approx(-dpsi * -6.0).epsilon(1e-8));
+    CHECK(std::abs(omega(0)) + std::abs(omega(2)) < 1e-12);
+    CHECK((rocker.v0_W - omega.cross(rocker.x0_W - D)).norm() < 1e-14);
+  }
+}
+
+TEST_CASE("a four-bar with its rocker on a pivot moves as the one with the revolute D") {
+  // Both assembled from the same crank pose and rate, solved at rtol 1e-10
+  // for 1 s (about one crank turn): the rocker's centre over the grid.
+  const fs::path scenes = rigidae::test::fresh_temp_dir("pivoted-rocker");
+  const auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(scenes / name) << text;
+    return (scenes / name).string();
+  };
+  const std::string revolute = write("revolute.toml", problem_text("four_bar_assembled.toml"));
+  const std::string pivoted = write("pivoted.toml", with_pivoted_rocker(problem_text("four_bar_assembled.toml")));
+  std::vector<std::vector<std::map<std::string, std::string>>> runs;
+  for (const std::string& path : {revolute, pivoted}) {
+    const fs::path out = scenes / fs::path(path).stem();
+    const auto r = rigidae::test::run_cli("solve " + path + " --t-end 1 --output-step 0.05 --rtol 1e-10 --atol 1e-10 "
+                                          "--quiet --out " + out.string());
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    runs.push_back(rigidae::test::read_csv_rows(out / "trajectory.csv"));
+  }
+  REQUIRE(runs[0].size() == 21);
+  REQUIRE(runs[1].size() == 21);
+  double worst = 0.0, travel = 0.0;
+  for (std::size_t k = 0; k < runs[0].size(); ++k)
+    for (const char* axis : {"rocker.x", "rocker.y", "rocker.z"}) {
+      const double a = std::stod(runs[0][k].at(axis)), b = std::stod(runs[1][k].at(axis));
+      worst = std::max(worst, std::abs(a - b));
+      travel = std::max(travel, std::abs(a - std::stod(runs[0][0].at(axis))));
+    }
+  MESSAGE("rocker centre: largest difference " << worst << " m, largest travel " << travel << " m");
+  CHECK(travel > 0.05);  // it swings
+  CHECK(worst < 1e-7);
 }
 
 TEST_CASE("a four-bar whose pivots are farther apart than its links reach cannot be assembled") {

@@ -23,6 +23,13 @@
 // but its centre-of-mass velocity follows its joints (so a crank needs only
 // its rate). A start that stays more than
 // start_tolerance off a joint is refused at that joint's [[joints]] table.
+//
+// A body held at a pivot o (BodySpec::pivot_W) only turns: x = o + R c with
+// the lever c = R_given^T (x_given - o) (or com_from_pivot_B), the body's
+// geometry, kept. Its unknowns are dtheta alone: a point's gradient is
+// [-, -hat(x + R s - o)] (no translation columns), its metric block the
+// inertia about the pivot, J_o = J_c + m (|c|^2 I - c c^T), and its velocity
+// after the solve v = omega x (x - o).
 #include <string>
 #include <vector>
 
