@@ -28,6 +28,10 @@ struct CallbackData {
   // the step just taken; the loop records it once the step is accepted.
   bool projected = false;
   OdeDrift drift_before;
+  // The error weights' tolerances, for a stepper that computes the weights
+  // itself (arkode_stepper.cpp).
+  double rtol = 0.0;
+  N_Vector atol = nullptr;
 };
 
 inline CallbackData& cb(void* user_data) { return *static_cast<CallbackData*>(user_data); }

@@ -230,23 +230,29 @@ void linear_combination_in_place(int nvec, const double* c, N_Vector* X, N_Vecto
 // registers (each entry still c0 x0 + c1 x1 + ... in the order of the terms,
 // hence the same bits): the ODE integrators' stage sums on one body's 7 to 12
 // states, where the loop above spends most of its time on loop and alias
-// overhead. No X_i (i >= 1) may alias z.
+// overhead. A term X_i = z (i >= 1) would have to read the partial sum (as
+// the loop above does): such a call writes nothing and returns false, and
+// the caller takes the loop. The check rides on the terms' own loads.
 template <int N>
-void linear_combination_fixed(int nvec, const double* c, N_Vector* X, N_Vector z) {
+bool linear_combination_fixed(int nvec, const double* c, N_Vector* X, N_Vector z) {
   double acc[N];
   const double* x0 = dat(X[0]);
   for (int j = 0; j < N; ++j) acc[j] = c[0] * x0[j];
+  bool aliased = false;
   for (int i = 1; i < nvec; ++i) {
     const double ci = c[i];
-    if (ci == 0.0) continue;
+    if (ci == 0.0) continue;  // skipped by the loop too: z or not, it adds nothing
+    aliased |= X[i] == z;
     const double* xi = dat(X[i]);
     for (int j = 0; j < N; ++j) acc[j] = acc[j] + ci * xi[j];
   }
+  if (aliased) return false;
   double* zd = dat(z);
   for (int j = 0; j < N; ++j) zd[j] = acc[j];
+  return true;
 }
 
-using FixedCombination = void (*)(int, const double*, N_Vector*, N_Vector);
+using FixedCombination = bool (*)(int, const double*, N_Vector*, N_Vector);
 template <int... N>
 constexpr std::array<FixedCombination, sizeof...(N)> fixed_combinations(std::integer_sequence<int, N...>) {
   return {&linear_combination_fixed<N + 1>...};
@@ -255,12 +261,8 @@ constexpr int kFixedLengthMax = 16;  // lengths 1..16: single bodies (7 to 18 st
 constexpr auto kFixedCombinations = fixed_combinations(std::make_integer_sequence<int, kFixedLengthMax>{});
 
 int linear_combination(int nvec, double* c, N_Vector* X, N_Vector z) {
-  const Index n = len(z);
-  bool aliased = false;
-  for (int i = 1; i < nvec; ++i) aliased = aliased || X[i] == z;
-  if (n >= 1 && n <= kFixedLengthMax && !aliased)
-    kFixedCombinations[n - 1](nvec, c, X, z);
-  else
+  const auto n = static_cast<std::size_t>(len(z)) - 1;  // lengths 1..16 -> 0..15; 0 wraps to the largest
+  if (n >= static_cast<std::size_t>(kFixedLengthMax) || !kFixedCombinations[n](nvec, c, X, z))
     linear_combination_in_place(nvec, c, X, z);
   return 0;
 }
