@@ -342,6 +342,39 @@ void MultibodyProblem::make_consistent(double t, Eigen::VectorXd& y, Eigen::Vect
   }
 }
 
+// A driver's coordinate against f(t0) at the given poses (driver_scratch_
+// filled by evaluate_block): refused beyond start_tolerance; for an angle
+// the miss is theta - f wrapped (prescribed_miss), and f(t0) a whole number
+// of turns from the pose is the same pose, said in a warning because the
+// angle columns count from the pose's reading.
+void MultibodyProblem::check_driver_start(int j, const std::string& where, double t0, double& worst,
+                                          std::string& worst_row) {
+  const DriverRow& d = drivers_[blocks_[j].driver];
+  const double f = d.motion->value(t0);
+  const bool angle = d.coordinate->kind != CoordinateKind::Length;
+  // The coordinate as read at the given pose, its round-off shown as 0.
+  const double raw = angle ? coordinate_angle(driver_scratch_) : driver_scratch_.phi(0);
+  const double reading = std::abs(raw) < 1e-12 ? 0.0 : raw;
+  const double miss = std::abs(prescribed_miss(d, driver_scratch_, t0));
+  const char* unit = angle ? "rad" : "m";
+  if (miss > spec_.start_tolerance)
+    throw InputError(fmt::format("{}: the initial poses miss the prescribed motion by {:.3g} {} (more than "
+                                 "start_tolerance {:g}): at t = {:g} the driver prescribes {:.6g} {}, the joint "
+                                 "reads {:.6g} {}; place the bodies at that pose, or start the motion where they are",
+                                 where, miss, unit, spec_.start_tolerance, t0, f, unit, reading, unit));
+  if (angle) {
+    const double turns = std::round((f - reading) / (2.0 * M_PI));
+    if (turns != 0.0)
+      warnings_.push_back(fmt::format(
+          "{}: at t = {:g} the driver prescribes {:.6g} rad, {:g} whole turn{} from the pose's angle {:.6g} rad (the "
+          "same pose): the joint's angle columns count from the pose, so they read the prescribed angle less {:g} "
+          "rad",
+          row_label(j, 0), t0, f, turns, std::abs(turns) == 1.0 ? "" : "s", reading,
+          2.0 * M_PI * turns));
+  }
+  if (miss > worst) worst = miss, worst_row = row_label(j, 0);
+}
+
 void MultibodyProblem::start(const Scene& scene) {
   const double t0 = scene.time.start;
   bridge_.enabled = spec_.bridge_singular_poses;
@@ -368,13 +401,11 @@ void MultibodyProblem::start(const Scene& scene) {
     if (blocks_[j].internal) continue;
     for (int r = 0; r < blocks_[j].nr; ++r) {
       if (!blocks_[j].active[r]) continue;  // set aside: checked below
+      if (blocks_[j].driver >= 0) {
+        check_driver_start(j, row_error(j, r), t0, worst, worst_row);
+        continue;
+      }
       const double miss = std::abs(block_eval_[j].phi(r));
-      if (miss > spec_.start_tolerance && blocks_[j].driver >= 0)
-        throw InputError(fmt::format("{}: the initial poses miss the prescribed motion by {:.3g} (more than "
-                                     "start_tolerance {:g}): at t = {:g} the driver prescribes {:.6g}; place the "
-                                     "bodies at that pose, or start the motion where they are",
-                                     row_error(j, r), miss, spec_.start_tolerance, t0,
-                                     spec_.drivers[blocks_[j].driver].motion.value(t0)));
       if (miss > spec_.start_tolerance)
         throw InputError(fmt::format("{}: the initial poses miss the joint by {:.3g} (more than start_tolerance "
                                      "{:g}); place the bodies so that the joint holds, or raise start_tolerance",

@@ -105,4 +105,13 @@ double driving_effort(const DriverRow& d, const BlockEval& scratch, double lambd
   return -lambda * std::hypot(scratch.phi(0), scratch.phi(1));
 }
 
+double prescribed_miss(const DriverRow& d, const BlockEval& scratch, double t) {
+  const double f = d.motion->value(t);
+  if (d.coordinate->kind == CoordinateKind::Length) return scratch.phi(0) - f;
+  const double C = scratch.phi(0), S = scratch.phi(1), s = std::sin(f), c = std::cos(f);
+  return std::atan2(S * c - C * s, C * c + S * s);
+}
+
+double coordinate_angle(const BlockEval& scratch) { return std::atan2(scratch.phi(1), scratch.phi(0)); }
+
 }  // namespace rigidae::multibody

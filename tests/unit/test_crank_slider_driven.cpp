@@ -15,7 +15,10 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "cli_runner.hpp"
+#include "rigidae/core/error.hpp"
 #include "rigidae/app/solve.hpp"
 #include "rigidae/coords/representation.hpp"
 #include "rigidae/io/scene_loader.hpp"
@@ -140,6 +143,42 @@ TEST_CASE("crank-slider driven: the mobility is 0 and the start is the closed fo
   CHECK(p.redundancy().gruebler_dof == 18 - 20 - 1);
   CHECK(p.redundancy().dropped.size() == 3);
   CHECK(p.warnings().size() == 1);  // the redundant rows only: no projected miss or velocity
+}
+
+TEST_CASE("crank-slider driven: a driver half a turn off the pose is refused; whole turns are the same pose") {
+  // The row r sin(theta - f) vanishes at theta - f = pi too, where the
+  // driving torque would come out with the wrong sign: the start compares
+  // the angle, theta - f wrapped to [-pi, pi].
+  const std::string text = rigidae::test::read_file(std::string(RIGIDAE_SOURCE_DIR) +
+                                                    "/problems/crank_slider_driven.toml");
+  const std::string key = "value = 0.0, rate";
+  const std::size_t at = text.find(key);
+  REQUIRE(at != std::string::npos);
+  const auto with_value = [&](double v) {
+    std::string t = text;
+    t.replace(at, key.size(), fmt::format("value = {:.17g}, rate", v));
+    return t;
+  };
+  for (double v : {std::numbers::pi, 0.5, -3.0}) {
+    CAPTURE(v);
+    try {
+      multibody::MultibodyProblem p(io::parse_scene(with_value(v), "cs.toml"));
+      FAIL("started half a turn off the prescribed angle");
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      CAPTURE(msg);
+      CHECK(msg.find("cs.toml:") == 0);
+      CHECK(msg.find("driver of joint 'crank_bearing'") != std::string::npos);
+      // The miss is the angle itself (3.14, 0.5, 3.0 rad), not r sin of it.
+      const double miss = std::abs(std::remainder(v, 2.0 * std::numbers::pi));
+      CHECK(msg.find(fmt::format("miss the prescribed motion by {:.3g} rad", miss)) != std::string::npos);
+      CHECK(msg.find("the joint reads 0 rad") != std::string::npos);
+    }
+  }
+  // f(t0) = 2 pi: the same pose, run, with a warning that the angle columns count from the pose.
+  multibody::MultibodyProblem p(io::parse_scene(with_value(2.0 * std::numbers::pi), "cs.toml"));
+  REQUIRE(p.warnings().size() == 2);
+  CHECK(p.warnings()[1].find("1 whole turn from the pose's angle 0 rad") != std::string::npos);
 }
 
 TEST_CASE("crank-slider driven: quaternion/euler/index1 against the closed form") {

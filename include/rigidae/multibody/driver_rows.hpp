@@ -54,4 +54,14 @@ void differentiate_driver(const DriverRow& d, double t, const BlockSides& sides,
 // r needs no time, so any state's row can report it).
 double driving_effort(const DriverRow& d, const BlockEval& scratch, double lambda);
 
+// How far the coordinate is from the prescribed f(t), after evaluate_driver
+// (scratch filled): d - f (m) for a length; for an angle theta - f wrapped
+// to [-pi, pi] (rad), atan2(r sin(theta - f), r cos(theta - f)), not the row
+// r sin(theta - f), which also vanishes half a turn off (where the driving
+// torque -lambda dPhi/dtheta would come out with the wrong sign).
+double prescribed_miss(const DriverRow& d, const BlockEval& scratch, double t);
+// The angle theta = atan2(S, C) in (-pi, pi] that the coordinate's rows read
+// (angles only; after evaluate_driver).
+double coordinate_angle(const BlockEval& scratch);
+
 }  // namespace rigidae::multibody

@@ -504,6 +504,7 @@ class MultibodyProblem final : public DaeProblem {
   void constraint_matrices(Eigen::SparseMatrix<double>& G, Eigen::VectorXd& phi, std::vector<int>* row_block,
                            std::vector<int>* row_index) const;
   void start(const Scene& scene);
+  void check_driver_start(int block, const std::string& where, double t0, double& worst, std::string& worst_row);
   // Before the layout: the rank of the Force rows at the given poses, the
   // rows set aside (removed from rows[joint]), mobility.
   void find_redundant_rows(const Scene& scene, std::vector<std::vector<ConstraintRow>>& rows);
