@@ -14,7 +14,8 @@
 // target = gamma for index3, index2, ggl (the true acceleration level) and
 // the scheme's own row with v' = 0 otherwise (Baumgarte's feedback), so the
 // residual vanishes. mu: (P P^T) mu = P q'_0 - rate, q' = q'_0 - P^T mu over
-// the blocks with mu (P their Phi_q), rate 0 or Baumgarte's -a Phi.
+// the blocks with mu (P their Phi_q), rate 0, Baumgarte's -a Phi, or a
+// driver's -Phi_t (so that Phi' = P q' + Phi_t = 0: mu = 0 once G v + Phi_t = 0).
 // All sparse: O(bodies + joints) for chains.
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
@@ -307,16 +308,29 @@ void MultibodyProblem::make_consistent(double t, Eigen::VectorXd& y, Eigen::Vect
     const BlockEval& e = block_eval_[j];
     for (int r = 0; r < blk.nr; ++r) {
       if (!blk.active[r]) continue;
+      double Pq = 0.0;  // Phi_q q'_0 of the row
       for (int x = 0; x < 2; ++x) {
         const int bi = blk.body_of_side[x];
         if (bi == kGround) continue;
         const int qo = groups_[bodies_[bi].q_group].offset;
         for (int k = 0; k < e.phi_q[x].cols(); ++k)
-          if (e.phi_q[x](r, k) != 0.0) trip.emplace_back(nmu, qo + k, e.phi_q[x](r, k));
+          if (e.phi_q[x](r, k) != 0.0) {
+            trip.emplace_back(nmu, qo + k, e.phi_q[x](r, k));
+            Pq += e.phi_q[x](r, k) * qdot(qo + k);
+          }
       }
       const LevelWeights& w = blk.mu_rows;
-      rate.push_back(blk.kind == ConstraintKind::Kinematic && w.velocity != 0.0 ? -w.position * e.phi(r) / w.velocity
-                                                                                : 0.0);
+      if (blk.kind == ConstraintKind::Kinematic && w.velocity != 0.0)
+        rate.push_back(-w.position * e.phi(r) / w.velocity);
+      else if (blk.driver >= 0)
+        // A driver's row moves with time: Phi' = Phi_q q' + Phi_t = 0 asks
+        // P q' = -Phi_t = Phi_q q'_0 - (G v + Phi_t) (its velocity level, 0
+        // after the projection), so mu = 0 as without drivers. With rate 0
+        // mu held q' still and the first step met the driver's motion as an
+        // inconsistency (IDA's error test failed at t0 for rtol <= 1e-11).
+        rate.push_back(Pq - e.Gv(r));
+      else
+        rate.push_back(0.0);
       ++nmu;
     }
   }

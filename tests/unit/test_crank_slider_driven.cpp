@@ -203,6 +203,49 @@ TEST_CASE("crank-slider driven: quaternion/euler/index1 against the closed form"
   CHECK(o.extremes.max_abs_energy_error < 1e-8);
 }
 
+TEST_CASE("crank-slider driven: GGL starts on the driver's motion (mu = 0) and runs at rtol 1e-12") {
+  // GGL's q' = N v - Phi_q^T mu: the start's mu solved Phi_q q' = 0, which
+  // held the driven crank still (mu = (P P^T)^-1 G v, with G v = -Phi_t != 0)
+  // and IDA's error test failed at t0 for rtol <= 1e-11. Phi_q q' = -Phi_t
+  // gives mu = 0 and q' = N v: the first step follows the driver.
+  for (const char* tol : {"1e-11", "1e-12"}) {
+    Scene s = driven_scene();
+    s.formulation.scheme = "ggl";
+    s.solver.rtol = s.solver.atol = std::stod(tol);
+    CAPTURE(tol);
+    const fs::path dir = test::fresh_temp_dir("crank_slider_driven_ggl");
+    const SolveOutcome o = solve_scene(s, dir);
+    REQUIRE_MESSAGE(o.run.status == RunStatus::Success, o.run.message);
+    const Errors e = compare(s, dir);
+    MESSAGE("ggl at " << std::string(tol) << ": angle " << e.angle << " rad, position " << e.position << " m, torque "
+                      << e.torque);
+    CHECK(e.angle <= 1e-8);
+    CHECK(e.position <= 1e-8);
+    CHECK(e.torque <= 1e-6);
+  }
+  // The start itself: every mu of the consistent start is 0 (to round-off)
+  // and q' = N v, the residual zero.
+  Scene s = driven_scene();
+  s.formulation.scheme = "ggl";
+  multibody::MultibodyProblem p(s);
+  Eigen::VectorXd y, yp;
+  p.initial_state(s.time.start, y, yp);
+  Eigen::VectorXd F(p.size());
+  p.residual(s.time.start, y.data(), yp.data(), F.data());
+  CHECK(F.cwiseAbs().maxCoeff() < 1e-12);
+  double largest_mu = 0.0;
+  int driver_blocks = 0;
+  for (const multibody::ConstraintBlock& b : p.blocks()) {
+    if (b.mu_group < 0) continue;
+    const multibody::UnknownGroup& g = p.groups()[static_cast<std::size_t>(b.mu_group)];
+    largest_mu = std::max(largest_mu, y.segment(g.offset, g.size).cwiseAbs().maxCoeff());
+    driver_blocks += b.driver >= 0;
+  }
+  CHECK(driver_blocks == 1);
+  MESSAGE("largest |mu| at the start " << largest_mu);
+  CHECK(largest_mu < 1e-12);
+}
+
 TEST_CASE("crank-slider driven: every Euler-form combination and the ODE form") {
   const Scene base = driven_scene();
   for (const Coordinates& c : all_coordinates())
@@ -234,10 +277,15 @@ TEST_CASE("crank-slider driven: every Euler-form combination and the ODE form") 
       // schemes reach 2.05e-6 at rtol 1e-10: isolated points where the
       // multiplier, which IDA leaves out of its error test, is off (at rtol
       // 1e-11 one grid point is 9.7e-6 off, its neighbours 1e-10; the
-      // accepted steps' values too: 1.2e-6 and 4.8e-6; open). Their measured
-      // bound is asserted, every other combination's is 1e-6.
-      const bool linear_acceleration_level = coords == "linear" && (scheme == "index1" || scheme == "projection");
-      CHECK(e.torque <= (linear_acceleration_level ? 3e-6 : 1e-6));
+      // accepted steps' values too: 1.2e-6 and 4.8e-6; open). Euler angles
+      // with ggl likewise: 2.2e-6 at t = 0.47 s (its multipliers are outside
+      // IDA's error test; angle 2.5e-12 rad), since GGL's start follows the
+      // driver (mu = 0, a first step of 6e-6 s instead of 3e-10 s: another
+      // step sequence). Their measured bound is asserted, every other
+      // combination's is 1e-6.
+      const bool isolated_multiplier_misses = (coords == "linear" && (scheme == "index1" || scheme == "projection")) ||
+                                              (coords == "euler" && scheme == "ggl");
+      CHECK(e.torque <= (isolated_multiplier_misses ? 3e-6 : 1e-6));
     }
   Scene s = base;
   s.solver.integrator = "cvode-bdf";
