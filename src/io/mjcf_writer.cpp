@@ -45,7 +45,8 @@
 // limits as range with limited="false" (data, not enforced, as in rigidae).
 // Refused: closed loops, particles, springs and loads (MJCF has no
 // constant body load, and a two-point spring is a tendon this writer does not
-// write).
+// write), drivers and motors (time functions: MuJoCo's actuators and their
+// controls live at run time).
 #include <fmt/format.h>
 
 #include <Eigen/Eigenvalues>
@@ -155,6 +156,22 @@ class Writer {
     if (!mb_.loads.empty())
       refuse(mb_.loads.front().where, "[[loads]]: MJCF has no constant body load (MuJoCo applies such forces at run "
                                       "time through xfrc_applied); export a scene without [[loads]]");
+    // Prescribed motion and motors act through time functions that MJCF
+    // cannot state in the model (MuJoCo drives joints through actuators and
+    // controls set at run time): dropping them would export another motion.
+    if (!mb_.drivers.empty()) {
+      const DriverSpec& d = mb_.drivers.front();
+      refuse(d.where, fmt::format("[[drivers]] on joint \"{}\": MJCF states no prescribed joint motion f(t) (MuJoCo "
+                                  "drives a joint through an actuator and its control at run time); export the scene "
+                                  "without [[drivers]]",
+                                  mb_.joints[static_cast<std::size_t>(d.joint)].name));
+    }
+    for (const JointSpec& J : mb_.joints)
+      if (J.motor_torque != 0.0 || J.motor_force != 0.0)
+        refuse(J.where, fmt::format("joint \"{}\" has a motor ({}): MJCF states no joint load as a function of time "
+                                    "(MuJoCo applies it through an actuator's control at run time); export the scene "
+                                    "without the motor",
+                                    J.name, J.motor_torque != 0.0 ? "motor_torque" : "motor_force"));
   }
 
   std::string body_label(int b) const { return b == kGround ? std::string("the ground") : "\"" + mb_.bodies[b].name + "\""; }

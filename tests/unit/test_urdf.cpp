@@ -307,6 +307,20 @@ TEST_CASE("mjcf export: trees only, refusals named") {
   CHECK(files[1].first == "chain.part1.xml");
   CHECK(files[0].second.find("<include file=\"chain.part1.xml\"/>") != std::string::npos);
   CHECK(files[1].second.find("<include file=\"chain.part2.xml\"/>") != std::string::npos);
+  // Drivers and motors are functions of time that MJCF does not state:
+  // refused at their table, not dropped (the export would move otherwise).
+  Scene driven = chain;
+  DriverSpec d;
+  d.joint = 2;
+  d.where = {"chain.toml", 41, 1};
+  driven.multibody->drivers.push_back(d);
+  const std::string driver = error_of([&] { io::mjcf_files(driven, {}, "m.xml"); });
+  CHECK(driver.find("chain.toml:41:1: error: [[drivers]] on joint \"joint3\"") == 0);
+  Scene motored = chain;
+  motored.multibody->joints[4].motor_torque = 0.5;
+  motored.multibody->joints[4].where = {"chain.toml", 57, 1};
+  const std::string motor = error_of([&] { io::mjcf_files(motored, {}, "m.xml"); });
+  CHECK(motor.find("chain.toml:57:1: error: joint \"joint5\" has a motor (motor_torque)") == 0);
 }
 
 TEST_SUITE_END();
