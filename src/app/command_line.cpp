@@ -162,6 +162,16 @@ Scene scene_from(const CommandLine& cl, const CommandInfo& command) {
   Scene scene = io::load_scene(cl.positional.front());
   for (const auto& [s, v] : cl.options)
     if (s->set && !s->scene_key.empty()) s->set(scene, v);
+  // --output-step asks for the even grid: it replaces the scene's
+  // output.times (the scene file may hold only one of the two), said once.
+  for (const auto& [s, v] : cl.options)
+    if (s->scene_key == "time.output_step" && !scene.time.output_times.empty()) {
+      fmt::print(stderr, "{}: note: --output-step {} s replaces the scene's {} output times with an even grid\n",
+                 scene.output_times_at.empty() ? scene.source : scene.output_times_at, scene.time.output_step,
+                 scene.time.output_times.size());
+      scene.time.output_times.clear();
+      scene.output_times_at.clear();
+    }
   clip_output_times(scene);
   // The options may have changed what the default rule reads (scheme, springs' output step) or named the integrator.
   settings::resolve_integrator(scene);

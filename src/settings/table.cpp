@@ -223,7 +223,7 @@ std::vector<Setting> make_table() {
        .get = [](const Scene& s) -> Value { return s.time.end; }});
   row({.scene_key = "time.output_step", .option = "--output-step", .commands = kRun, .kind = Kind::Real,
        .metavar = "X", .unit = "s", .min = Bound{0, false}, .default_text = "(end - start) / 100",
-       .help = "spacing of the output grid (trajectory.csv); at most 1e8 intervals",
+       .help = "spacing of the output grid (trajectory.csv); at most 1e8 intervals; replaces the scene's output.times",
        .set = [](Scene& s, const Value& v) { s.time.output_step = real(v); },
        .get = [](const Scene& s) -> Value { return s.time.output_step; }});
 

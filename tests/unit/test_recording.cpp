@@ -309,4 +309,28 @@ TEST_CASE("recording: solve --record, --step-format and --error-estimate on the 
   CHECK(summary.find("\"rtol\": 1e-08") != std::string::npos);
 }
 
+TEST_CASE("recording: --output-step replaces a scene's output.times with the even grid, with a note") {
+  const fs::path out = test::fresh_temp_dir("cli_output_step");
+  std::string text = test::read_file(std::string(RIGIDAE_SOURCE_DIR) + "/problems/free_body.toml");
+  const std::size_t at = text.find("output_step");
+  REQUIRE(at != std::string::npos);
+  text.erase(at, text.find('\n', at) - at);  // the scene's own grid out: output.times instead
+  text += "\n[output]\ntimes = [0.1, 0.5]\n";
+  const fs::path scene = out / "times.toml";
+  std::ofstream(scene) << text;
+  auto r = test::run_cli("solve " + scene.string() + " --t-end 1 --output-step 0.1 --out " + (out / "grid").string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("note: --output-step 0.1 s replaces the scene's 2 output times with an even grid") !=
+        std::string::npos);
+  const auto rows = test::read_csv_rows(out / "grid" / "trajectory.csv");
+  REQUIRE(rows.size() == 11);  // t = 0, 0.1, ..., 1
+  CHECK(std::stod(rows[3].at("t")) == doctest::Approx(0.3));
+  CHECK(read_all(out / "grid" / "summary.json").find("\"output_step\": 0.1") != std::string::npos);
+  // Without --output-step the scene's times hold.
+  r = test::run_cli("solve " + scene.string() + " --t-end 1 --quiet --out " + (out / "times").string());
+  REQUIRE(r.exit_code == 0);
+  CHECK(test::read_csv_rows(out / "times" / "trajectory.csv").size() == 2);
+}
+
 TEST_SUITE_END();
