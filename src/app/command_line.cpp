@@ -36,7 +36,8 @@ const std::array<CommandInfo, 3> kCommands{{
      "(a mechanism of particles alone, which has no rotation coordinates, runs each\n"
      "scheme and integrator once, in the scene's coordinates and form).\n"
      "Options override the scene file (docs/scene_format.md).\n",
-     "compare runs every combination; select with --only/--skip (e.g. --only 'quaternion/*/ggl')",
+     "compare runs every combination and integrator; select with --only/--skip (e.g. --only 'quaternion/*/ggl', "
+     "--only '*@cvode-adams')",
      "Exit code 0 when every run finished, failed combinations included (they are\n"
      "rows of the table); 1 when the reference could not be computed; 2 bad input.\n"},
     {settings::kStudy, "study", "rigidae study [list|run|collect] STUDY.toml [options]",

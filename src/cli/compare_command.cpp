@@ -37,11 +37,6 @@ int compare_command(const std::vector<std::string>& args) {
     return 0;
   }
   const Scene scene = scene_from(cl, info);
-  // The integrator is one of compare's axes (rows such as
-  // quaternion/euler/projection@cvode-adams), so one for all runs would contradict it.
-  if (cl.has("--integrator"))
-    throw InputError("--integrator does not apply to compare: it runs every integrator as rows; pick them with "
-                     "--only, e.g. --only '*@cvode-adams' or --only 'quaternion/*/*@*'");
   CompareOptions opt;
   const bool quiet = cl.has("--quiet"), plot = cl.has("--plot");
   opt.out = cl.text("--out");

@@ -185,7 +185,8 @@ std::vector<Setting> make_table() {
        .set = [](Scene& s, const Value& v) { s.solver.linear_solver = word(v); },
        .get = [](const Scene& s) -> Value { return s.solver.linear_solver; }});
   // Which integrator runs which schemes: solver/integrators.hpp (checked in cross_problem).
-  row({.scene_key = "solver.integrator", .option = "--integrator", .commands = kRun, .kind = Kind::Choice,
+  // Not compare's: the integrator is one of its axes (rows such as quaternion/euler/projection@cvode-adams).
+  row({.scene_key = "solver.integrator", .option = "--integrator", .commands = kSolve, .kind = Kind::Choice,
        .choices = integrator_names, .default_text = "ida, or arkode-erk for a non-stiff index1/projection scene",
        .help = "ida: BDF on the DAE, every scheme; cvode-adams, cvode-bdf, arkode-erk: the ODE form (single "
                "bodies and mechanisms), schemes "
