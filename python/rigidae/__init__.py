@@ -49,7 +49,12 @@ def _keyword(option):
 
 
 def _describe(o):
-    value = f" {o['metavar']}" if o["metavar"] and not o["flag"] else ""
+    if o["flag"]:
+        # A flag's keyword takes True or False; the domain and default are
+        # the scene key's, which the flag turns to its other value.
+        return (f"{o['option']}: {o['help']} [{_keyword(o['option'])}=True as the flag; default False: the scene's "
+                f"{o['scene_key']} (default {o['default']})]")
+    value = f" {o['metavar']}" if o["metavar"] else ""
     extra = [x for x in (o["domain"], f"default {o['default']}" if o["default"] else "", o["unit"]) if x]
     return f"{o['option']}{value}: {o['help']}" + (f" [{'; '.join(extra)}]" if extra else "")
 
@@ -124,9 +129,32 @@ def scene_from_dict(d, **options):
     return _with_options(scene, options)
 
 
+_UNKNOWN_OPTION = re.compile(r"^unknown option '--(?P<name>[^']*)' for (?P<command>\w+)(?:; did you mean "
+                             r"'--(?P<close>[^']*)'\?)?")
+
+
+def _as_keywords(e):
+    """The command line's "unknown option '--rtoll' ... did you mean '--rtol'"
+    in the words of a Python call: keyword arguments."""
+    m = _UNKNOWN_OPTION.match(e.message)
+    if not m:
+        return e
+    name, command = _keyword("--" + m["name"]), m["command"]
+    text = f"unknown keyword argument {name}= for rigidae.{command}()"
+    if m["close"]:
+        text += f"; did you mean {_keyword('--' + m['close'])}=?"
+    text += f" (the keywords: rigidae.OPTIONS, or help(rigidae.{command}))"
+    out = InputError(text)
+    out.option, out.suggestion = name, _keyword("--" + m["close"]) if m["close"] else None
+    return out
+
+
 def _with_options(scene, options, command="solve"):
     args = _option_args(options)
-    return scene._with_options(command, args) if args else scene
+    try:
+        return scene._with_options(command, args) if args else scene
+    except InputError as e:
+        raise _as_keywords(e) from None
 
 
 def _as_scene(scene, options, command="solve"):
@@ -442,7 +470,10 @@ def compare(scene, *, only=None, skip=None, repeat=3, reference=None, reference_
                              reference_rtol=reference_rtol))
     with tempfile.TemporaryDirectory(prefix="rigidae-compare-") as tmp:
         folder = os.fspath(out) if out is not None else tmp
-        raw = _core.compare(scene, args, folder, progress)
+        try:
+            raw = _core.compare(scene, args, folder, progress)
+        except InputError as e:
+            raise _as_keywords(e) from None
         result = _tables.read_csv(os.path.join(folder, "compare.csv"), as_dataframe)
     if not raw["reference_ok"]:
         e = SolverError(raw["reference_message"])

@@ -72,11 +72,18 @@ def test_options_are_checked_by_the_cli_parser():
         rigidae.solve(HEAVY_TOP, rtol=2)
     assert str(e.value) in stderr
     assert e.value.option == "rtol"
-    # The command line's words: the option as the CLI spells it.
+    # A misspelt keyword in the words of a Python call (the CLI names its option).
     code, _, stderr = run_cli("solve", HEAVY_TOP, "--rtoll", "1e-6")
-    with pytest.raises(rigidae.InputError, match="did you mean '--rtol'") as e:
+    assert code == 2 and "did you mean '--rtol'" in stderr
+    with pytest.raises(rigidae.InputError, match=r"unknown keyword argument rtoll= for rigidae.solve\(\); "
+                                                 r"did you mean rtol=\?") as e:
         rigidae.solve(HEAVY_TOP, rtoll=1e-6)
-    assert code == 2 and str(e.value) in stderr
+    assert e.value.option == "rtoll" and e.value.suggestion == "rtol"
+    with pytest.raises(rigidae.InputError, match=r"for rigidae.compare\(\); did you mean rtol=\?"):
+        rigidae.compare(HEAVY_TOP, rtoll=1e-6)
+    # A flag's keyword is documented as True/False, not by its scene key's values.
+    assert "no_chart_switching=True as the flag; default False" in rigidae.OPTIONS["no_chart_switching"]
+    assert "[threshold|every_step" not in rigidae.OPTIONS["project_every_step"]
     with pytest.raises(rigidae.InputError, match="'dense'"):
         rigidae.solve(HEAVY_TOP, linear_solver="lu")
     with pytest.raises(rigidae.InputError, match="takes True or False"):
