@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "rigidae/app/command_line.hpp"
+#include "rigidae/core/text.hpp"
 #include "rigidae/core/error.hpp"
 #include "output_folder.hpp"
 #include "rigidae/io/checked_file.hpp"
@@ -111,9 +112,10 @@ int export_command(const std::vector<std::string>& args) {
   for (const auto& [name, text] : files) write_file_atomically(dir / name, text);
   const MultibodySpec& spec = *system.multibody;
   const auto pivots = std::count_if(spec.bodies.begin(), spec.bodies.end(), [](const BodySpec& b) { return b.pivot_W.has_value(); });
-  fmt::print(stderr, "rigidae export: wrote {}{} ({} bodies, {} joints{})\n", output,
+  fmt::print(stderr, "rigidae export: wrote {}{} ({}, {}{})\n", output,
              files.size() > 1 ? fmt::format(" and {} part files beside it", files.size() - 1) : "",
-             spec.bodies.size(), spec.joints.size(), pivots > 0 ? fmt::format(", {} on a pivot", pivots) : "");
+             text::count(spec.bodies.size(), "body", "bodies"), text::count(spec.joints.size(), "joint", "joints"),
+             pivots > 0 ? fmt::format(", {} on a pivot", pivots) : "");
   return 0;
 }
 

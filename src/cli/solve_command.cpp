@@ -48,9 +48,17 @@ void print_report(const Scene& scene, const SolveOutcome& o) {
   if (!r.switches.empty())
     fmt::print("  charts        {} switches; first at t = {:.6g} s ({} -> {})\n", r.switch_count, r.switches.front().t,
                r.switches.front().from, r.switches.front().to);
+  // IDA and CVODE's Adams restart after a projection; CVODE's BDF and ARKODE project inside their steps.
+  const bool restarts_after_projection = solver.integrator == "ida" || solver.integrator == "cvode-adams";
+  const char* integrator_name = solver.integrator == "ida" ? "IDA" : "CVODE";
   if (c.projections > 0)
-    fmt::print("  projections   {} (each restarts IDA at order 1)\n", c.projections);
-  if (c.restarts > 0) fmt::print("  restarts      {} IDAReInit calls\n", c.restarts);
+    fmt::print("  projections   {} ({})\n", c.projections,
+               restarts_after_projection ? fmt::format("each restarts {} at order 1", integrator_name)
+                                         : std::string("inside the integrator's steps"));
+  if (c.restarts > 0) fmt::print("  restarts      {} ({} calls)\n", c.restarts,
+                                 solver.integrator == "ida"           ? "IDAReInit"
+                                 : solver.integrator == "arkode-erk"  ? "ERKStepReInit"
+                                                                      : "CVodeReInit");
   fmt::print("  outputs       {}/ ({})\n", o.out_dir.string(), recorded_files(scene.output));
 }
 

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/core/text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -125,10 +126,10 @@ MultibodyProblem::MultibodyProblem(const Scene& scene) : spec_(*scene.multibody)
     const SourcePosition& w = spec_.expected_dof_where;
     redundancy_.mobility_warning = fmt::format(
         "{}expected_dof = {}, but the mechanism's mobility is {} (velocities {} minus the rank {} of the constraint "
-        "rows; Gruebler-Kutzbach count {}, {} redundant rows)",
+        "rows; Gruebler-Kutzbach count {}, {})",
         w.file.empty() ? "" : fmt::format("{}:{}:{}: ", w.file, w.line, w.column), *spec_.expected_dof,
         redundancy_.rank_dof, redundancy_.velocities, redundancy_.rank, redundancy_.gruebler_dof,
-        redundancy_.dropped.size());
+        text::count(redundancy_.dropped.size(), "redundant row", "redundant rows"));
     warnings_.push_back(redundancy_.mobility_warning);
   }
 

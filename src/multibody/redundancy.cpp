@@ -25,6 +25,7 @@
 #include <set>
 
 #include "rigidae/core/error.hpp"
+#include "rigidae/core/text.hpp"
 #include "rigidae/multibody/multibody_problem.hpp"
 #include "row_rank.hpp"
 
@@ -199,11 +200,12 @@ void MultibodyProblem::find_redundant_rows(const Scene& scene, std::vector<std::
   for (int j : rep.indeterminate_joints) joints += (joints.empty() ? "" : ", ") + spec_.joints[j].name;
   const std::string src = dropped_row_source(0);
   warnings_.push_back(fmt::format(
-      "{}{} of the {} constraint rows are redundant at the start (rank {}): set aside and monitored as drift: {}; "
+      "{}{} of the {} constraint rows {} redundant at the start (rank {}): set aside and monitored as drift: {}; "
       "the reactions of joints {} are not determined by the constraints (statically indeterminate: their force and "
       "torque columns are the minimum-norm split over those joints' rows, torques divided by L = {:.6g} m; their "
       "lambda columns are the kept rows' multipliers)",
-      src.empty() ? "" : src + ": ", rep.dropped.size(), rep.rows, rep.rank, list, joints, rep.length_scale));
+      src.empty() ? "" : src + ": ", rep.dropped.size(), rep.rows, rep.dropped.size() == 1 ? "is" : "are", rep.rank,
+      list, joints, rep.length_scale));
 }
 
 int MultibodyProblem::full_rank(double t, const double* y) {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "rigidae/multibody/multibody_problem.hpp"
+#include "rigidae/core/text.hpp"
 
 namespace rigidae::multibody {
 
@@ -31,7 +32,8 @@ std::string MultibodyProblem::describe_stall(double t, const double* y) {
     }
   std::string text = fmt::format("Formulation: {} with scheme {}", formulation, scheme_.name);
   text += !spec_.joints.empty() || bodies_.size() > 1
-              ? fmt::format(", on {} bodies and {} joints.", bodies_.size(), spec_.joints.size())
+              ? fmt::format(", on {} and {}.", text::count(bodies_.size(), "body", "bodies"),
+                            text::count(spec_.joints.size(), "joint", "joints"))
               : std::string(".");
   evaluate(t, y, 2);
   for (int j = 0; j < static_cast<int>(blocks_.size()); ++j) evaluate_block(j, y, nullptr);

@@ -79,8 +79,8 @@ StepAction MultibodyProblem::on_event(double t, double h, Eigen::VectorXd& y, Ei
       if (margin > switch_threshold_ * 1.001) continue;
       a.kind = StepAction::Kind::Fail;
       a.message = fmt::format(
-          "chart singularity: body '{}': the integrator's root finding (IDA_ROOT_RETURN, CV_ROOT_RETURN or "
-          "ARK_ROOT_RETURN) found the Euler-angle chart '{}' at its singularity margin {:.3g} at t = {:.9g} s, "
+          "chart singularity: body '{}': the integrator's root finding found the Euler-angle chart '{}' at its "
+          "singularity margin {:.3g} at t = {:.9g} s, "
           "last step size {:.3g} s (gimbal lock ahead; the angle rates would blow up). Chart switching is off: "
           "enable it ([formulation.euler_angles] switching = true), or use quaternion or linear coordinates",
           b.name, b.rep->chart_name(), margin, t, h);

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "rigidae/record/error_control.hpp"
+#include "rigidae/core/text.hpp"
 #include "rigidae/record/recorder.hpp"
 
 // Rows name only the fields they set; the others keep their defaults by design.
@@ -141,13 +142,13 @@ void MechanismColumns::append_event(fmt::memory_buffer& b, const EventNote& n) c
 
 std::string MechanismColumns::note(const std::string& /*scheme_note*/) const {
   const MultibodySpec& spec = problem_.spec();
-  std::string note = fmt::format("{} bodies, {} joints, {} unknowns", problem_.bodies().size(), spec.joints.size(),
-                                 problem_.size());
+  std::string note = fmt::format("{}, {}, {} unknowns", text::count(problem_.bodies().size(), "body", "bodies"),
+                                 text::count(spec.joints.size(), "joint", "joints"), problem_.size());
   const multibody::RedundancyReport& rr = problem_.redundancy();
   note += fmt::format("; mobility {} (rank), {} (Gruebler-Kutzbach)", rr.rank_dof, rr.gruebler_dof);
   if (!spec.drivers.empty())
     note += fmt::format(", {} driver{} counted as constraints", spec.drivers.size(), spec.drivers.size() == 1 ? "" : "s");
-  if (!rr.dropped.empty()) note += fmt::format(", {} redundant rows set aside", rr.dropped.size());
+  if (!rr.dropped.empty()) note += ", " + text::count(rr.dropped.size(), "redundant row", "redundant rows") + " set aside";
   if (const multibody::AssemblyReport& ar = problem_.assembly(); ar.done) note += "; " + ar.note;
   return note;
 }

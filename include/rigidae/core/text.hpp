@@ -92,4 +92,9 @@ inline std::string quoted_list(std::span<const std::string_view> options) {
   return s;
 }
 
+// "1 body", "3 bodies": a count with its noun in the right number.
+inline std::string count(std::size_t n, std::string_view one, std::string_view many) {
+  return std::to_string(n) + " " + std::string(n == 1 ? one : many);
+}
+
 }  // namespace rigidae::text
