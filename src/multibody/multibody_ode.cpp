@@ -19,6 +19,9 @@ namespace {
 // A pivot this small against the largest: the KKT matrix is taken as
 // singular (the constraints lost rank, or a body has no mass on ker G).
 constexpr double kSingularPivotRatio = 1e-13;
+// W's absolute tolerance: its error weight 1e-100 keeps it out of the error
+// test (and of CVODE's Newton convergence test) without a zero weight.
+constexpr double kWorkAtol = 1e100;
 
 }  // namespace
 
@@ -83,6 +86,8 @@ MultibodyOde::MultibodyOde(MultibodyProblem& problem, bool sparse, const std::st
                                    where, problem.scheme().name));
   for (const BodyModel& b : problem.bodies()) has_internal_ = has_internal_ || b.rep->nc() > 0;
   by_body_ = by_body && problem.bodies_decoupled();
+  // Decoupled bodies have no drivers and no force element acting on them: no work.
+  integrates_work_ = problem.has_work() && !by_body_;
   if (by_body_) {
     for (std::size_t i = 0; i < problem.bodies().size(); ++i) {
       const BodyModel& b = problem.bodies()[i];
@@ -142,7 +147,8 @@ MultibodyOde::MultibodyOde(MultibodyProblem& problem, bool sparse, const std::st
   rhs_.setZero(ns_);
   lambda_.setZero(n_lambda_);
   y_drift_.setZero(n_);
-  xdot_scratch_.setZero(n_state_);
+  y_work_.setZero(n_);
+  xdot_scratch_.setZero(size());
   if (sparse) {
     // The linear part written straight into the KKT block (no pass over the
     // whole iteration-matrix pattern, 3.4x the KKT block's entries on the
@@ -202,12 +208,15 @@ void MultibodyOde::make_schur(const std::vector<int>& pos, const std::vector<int
 void MultibodyOde::initial_state(double t0, Eigen::VectorXd& x) {
   Eigen::VectorXd y, yp;
   problem_.initial_state(t0, y, yp);
-  x = y.head(n_state_);
+  x.setZero(size());
+  x.head(n_state_) = y.head(n_state_);  // W(t0) = 0
+  last_work_ = 0.0;
 }
 
 void MultibodyOde::absolute_tolerances(double /*rtol*/, double atol, const Eigen::VectorXd& /*x0*/,
                                        Eigen::Ref<Eigen::VectorXd> out) const {
   out.setConstant(atol);  // the DAE's tolerance of q and v (MultibodyProblem::absolute_tolerances)
+  if (integrates_work_) out[n_state_] = kWorkAtol;
 }
 
 bool MultibodyOde::factorise(double t, const double* x) {
@@ -283,6 +292,13 @@ bool MultibodyOde::rhs_general(double t, const double* x, double* xdot) {
   lambda_ = solution_.tail(n_lambda_);
   for (int i : q_index_)
     if (!std::isfinite(xdot[i])) return false;
+  if (integrates_work_) {
+    // W' = P at the state and the KKT solution's multipliers.
+    y_work_.head(n_state_) = Eigen::Map<const Eigen::VectorXd>(x, n_state_);
+    for (int k = nv_; k < ns_; ++k) y_work_[s_index_[k]] = solution_[k];
+    xdot[n_state_] = problem_.work_rate(t, y_work_.data());
+    if (!std::isfinite(xdot[n_state_])) return false;
+  }
   return true;
 }
 
@@ -345,8 +361,9 @@ void MultibodyOde::project_error(double t, const double* x, double* e) {
 }
 
 void MultibodyOde::observe(double t, const double* x, Eigen::VectorXd& y) {
-  y.setZero(n_);
+  y.setZero(observed_size());
   y.head(n_state_) = Eigen::Map<const Eigen::VectorXd>(x, n_state_);
+  if (integrates_work_) y[n_] = last_work_ = x[n_state_];
   if (n_lambda_ == 0) return;
   if (by_body_) {  // each body's own multipliers (Lagrange form), from its Schur complement
     for (std::size_t i = 0; i < body_ode_.size(); ++i) {
@@ -372,9 +389,9 @@ void MultibodyOde::event_functions(double t, const double* x, double* g) {
 StepAction MultibodyOde::on_event(double t, Eigen::VectorXd& x) {
   y_big_.setZero(n_);
   yp_big_.setZero(n_);
-  y_big_.head(n_state_) = x;
+  y_big_.head(n_state_) = x.head(n_state_);
   const StepAction a = problem_.on_event(t, 0.0, y_big_, yp_big_);
-  if (a.kind == StepAction::Kind::Restart) x = y_big_.head(n_state_);
+  if (a.kind == StepAction::Kind::Restart) x.head(n_state_) = y_big_.head(n_state_);  // W kept
   return a;
 }
 
@@ -401,13 +418,20 @@ double MultibodyOde::bridge(double t, Eigen::VectorXd& x) {
   // nodes' derivatives and the landing's multipliers itself).
   y_big_.setZero(n_);
   yp_big_.setZero(n_);
-  y_big_.head(n_state_) = x;
+  y_big_.head(n_state_) = x.head(n_state_);
   const double landing = problem_.bridge_after_step(t, y_big_, yp_big_);
-  if (landing > t) x = y_big_.head(n_state_);
+  if (landing > t) x.head(n_state_) = y_big_.head(n_state_);  // W kept: the bridge spans an instant
   return landing;
 }
 
-void MultibodyOde::bridged_observation(double t, Eigen::VectorXd& y) { problem_.bridged_state(t, y); }
+void MultibodyOde::bridged_observation(double t, Eigen::VectorXd& y) {
+  problem_.bridged_state(t, y);
+  if (!integrates_work_) return;
+  // The bridge's nodes inside a step: W as last observed (the bridge spans
+  // a small fraction of a step).
+  y.conservativeResize(observed_size());
+  y[n_] = last_work_;
+}
 
 std::string MultibodyOde::describe_stall(double t, const double* x) {
   y_big_.setZero(n_);

@@ -104,9 +104,9 @@ MechanismColumns::MechanismColumns(multibody::MultibodyProblem& problem, const S
 
 const columns::Table& MechanismColumns::table() const { return kTable; }
 
-double MechanismColumns::energy_error(double t, const double* y, double H) {
+double MechanismColumns::energy_error(double t, const Eigen::VectorXd& y, double H) {
   if (!have_H0_) H0_ = H, have_H0_ = true;
-  if (has_work_) work_.add(t, problem_.work_rate(t, y));
+  if (has_work_) work_.follow(t, y.data(), y.size(), problem_.size(), [&] { return problem_.work_rate(t, y.data()); });
   return (H - H0_ - work_.value()) / std::max(std::abs(H0_), 1.0);
 }
 
@@ -117,22 +117,25 @@ void MechanismColumns::observe(columns::File f, double t, const Eigen::VectorXd&
     const auto [pos, vel] = problem_.drift(t, y.data());
     o.drift = {pos, vel};
     o.energy = problem_.kinetic_energy(y.data()) + problem_.potential_energy(y.data());
-    o.energy_error = energy_error(t, y.data(), o.energy);
+    o.energy_error = energy_error(t, y, o.energy);
     if (!values.empty()) problem_.step_part_row(t, y.data(), step_parts_, values.data());
     return;
   }
   // A grid point: the energy from the row when there is one. The work's
-  // quadrature takes the accepted steps only (and the start).
+  // quadrature takes the accepted steps only (and the start); an
+  // observation that carries W (ODE integrators) gives it at the point.
   if (!values.empty()) {
     problem_.output_row(t, y.data(), grid_parts_, values.data());
     o.energy = values[energy_column_];
   } else {
     o.energy = problem_.kinetic_energy(y.data()) + problem_.potential_energy(y.data());
   }
+  const bool carries_work = y.size() > problem_.size();
   if (!have_H0_)
-    o.energy_error = energy_error(t, y.data(), o.energy);
+    o.energy_error = energy_error(t, y, o.energy);
   else
-    o.energy_error = (o.energy - H0_ - work_.value()) / std::max(std::abs(H0_), 1.0);
+    o.energy_error = (o.energy - H0_ - (carries_work ? y[problem_.size()] : work_.value())) /
+                     std::max(std::abs(H0_), 1.0);
 }
 
 void MechanismColumns::append_event(fmt::memory_buffer& b, const EventNote& n) const {

@@ -39,7 +39,7 @@ class MechanismColumns final : public RunColumns {
 
  private:
   // Sets H0 at the first state seen (the start) and returns (H - H0 - W) / max(|H0|, 1 J).
-  double energy_error(double t, const double* y, double H);
+  double energy_error(double t, const Eigen::VectorXd& y, double H);
 
   multibody::MultibodyProblem& problem_;
   RecordedParts step_parts_, grid_parts_;

@@ -53,10 +53,11 @@ Scene shipped(const std::string& file, Coordinates c, Equations e, const std::st
 // F(t, (x, lambda), (x', 0)) of the DAE, with x' and lambda from the ODE at x.
 double dae_residual_of_ode(MultibodyProblem& p, MultibodyOde& ode, double t, const Eigen::VectorXd& x,
                            Eigen::VectorXd* xdot_out = nullptr) {
+  // x = (q | v), and W when the scene has work (its last entry: multibody_ode.hpp).
   Eigen::VectorXd xdot(ode.size()), y, yp = Eigen::VectorXd::Zero(p.size()), F(p.size());
   REQUIRE(ode.rhs(t, x.data(), xdot.data()));
   ode.observe(t, x.data(), y);
-  yp.head(ode.size()) = xdot;
+  yp.head(p.state_size()) = xdot.head(p.state_size());
   REQUIRE(p.residual(t, y.data(), yp.data(), F.data()));
   if (xdot_out) *xdot_out = xdot;
   return F.cwiseAbs().maxCoeff();
@@ -83,9 +84,14 @@ TEST_CASE("multibody ode: x' and lambda make the DAE residual vanish, dense and 
         p.initial_state(s.time.start, y0, yp0);
         Eigen::VectorXd xdot;
         CHECK(dae_residual_of_ode(p, dense, s.time.start, x, &xdot) < 1e-9);
-        const double scale = 1.0 + yp0.head(dense.size()).cwiseAbs().maxCoeff();
-        CHECK((xdot - yp0.head(dense.size())).cwiseAbs().maxCoeff() < 1e-9 * scale);
-        const Eigen::VectorXd lambda0 = y0.tail(p.size() - dense.size());
+        const int ns = p.state_size();
+        CHECK(dense.size() == ns + (dense.integrates_work() ? 1 : 0));
+        // The driven crank-slider and the slider mechanism's dampers and load do work.
+        const std::string name = file;
+        CHECK(dense.integrates_work() == (name == "crank_slider_driven.toml" || name == "slider_mechanism.toml"));
+        const double scale = 1.0 + yp0.head(ns).cwiseAbs().maxCoeff();
+        CHECK((xdot.head(ns) - yp0.head(ns)).cwiseAbs().maxCoeff() < 1e-9 * scale);
+        const Eigen::VectorXd lambda0 = y0.tail(p.size() - ns);
         CHECK((dense.multipliers() - lambda0).cwiseAbs().maxCoeff() < 1e-9 * (1.0 + lambda0.cwiseAbs().maxCoeff()));
         // Off the manifold (velocities disturbed, positions moved): the residual
         // still vanishes, the acceleration rows included, and KLU agrees.
@@ -193,6 +199,30 @@ TEST_CASE("multibody ode: rhs allocates nothing (dense, KLU and the Schur comple
     CHECK(ok);
     CHECK(n == 0);
     CHECK(ode.schur() == (path == 2));
+  }
+}
+
+TEST_CASE("multibody ode: a driven mechanism's right-hand side with its work W' = P allocates nothing") {
+  const Scene s = shipped("crank_slider_driven.toml", Coordinates::Quaternion, Equations::Euler, "index1");
+  MultibodyProblem p(s);
+  for (const bool sparse : {false, true}) {
+    MultibodyOde ode(p, sparse, s.source);
+    REQUIRE(ode.integrates_work());
+    Eigen::VectorXd x, xdot(ode.size());
+    ode.initial_state(0.0, x);
+    REQUIRE(ode.rhs(0.0, x.data(), xdot.data()));
+    // W' is the driver's power tau theta' (the run's only work): at the
+    // start theta' = 2 pi, so W' / (2 pi) is the driving torque the DAE's
+    // consistent start gives.
+    Eigen::VectorXd y;
+    ode.observe(0.0, x.data(), y);
+    CHECK(xdot[p.state_size()] == doctest::Approx(p.work_rate(0.0, y.data())).epsilon(1e-12));
+    x.head(p.state_size()).array() += 1e-4;
+    test::start_counting_allocations();
+    const bool ok = ode.rhs(0.1, x.data(), xdot.data());
+    const long n = test::stop_counting_allocations();
+    CHECK(ok);
+    CHECK(n == 0);
   }
 }
 

@@ -18,6 +18,16 @@ class WorkIntegral {
  public:
   // Appends (t, P); the first call only starts the integral.
   void add(double t, double P);
+  // An observation y (size entries) of a problem with n unknowns: one that
+  // carries W itself, as entry n (an ODE integrator integrates W' = P with
+  // the state: multibody_ode.hpp), gives W; else P = power() is added.
+  template <class Power>
+  void follow(double t, const double* y, long size, long n, Power&& power) {
+    if (size > n)
+      work_ = y[n];
+    else
+      add(t, power());
+  }
   double value() const { return work_; }
   void reset() { work_ = 0.0, count_ = 0; }
 
