@@ -153,6 +153,11 @@ class Assembler {
       rate = G * V;
     }
     rep.final_velocity_miss = largest_unscaled(rate);
+    // The held bodies keep their angular velocities: when the joints allow
+    // no such motion the others cannot make up for it, and the start would
+    // change the held rates after all (the DAE's own projection).
+    if (!spec_.assembly.held.empty() && rep.final_velocity_miss > spec_.start_tolerance * std::max(1.0, V_given.cwiseAbs().maxCoeff()))
+      refuse_velocities(rep);
     // A pivoted body's centre of mass moves with its rotation about the pivot.
     for (int i = 0; i < nb_; ++i)
       if (pivots_[i].pivoted)
@@ -293,10 +298,40 @@ class Assembler {
         "{}joint '{}' ({}) row '{}': the mechanism cannot be assembled near the given poses: after {} Gauss-Newton "
         "steps the joint still misses by {:.3g} (start_tolerance {:g}; {:.3g} at the guess){}; the loop cannot "
         "close there: check the joint points and the link lengths, give guesses nearer the intended assembly, or "
-        "hold fewer bodies",
+        "hold fewer bodies{}",
         where, js.name, js.type->name, rows_[worst].row->name, rep.iterations,
         std::abs(phi(worst)) * rows_[worst].scale, spec_.start_tolerance, rep.initial_miss,
-        held.empty() ? "" : fmt::format(", with {} held", held)));
+        held.empty() ? "" : fmt::format(", with {} held", held), pivot_hint()));
+  }
+
+  [[noreturn]] void refuse_velocities(const AssemblyReport& rep) const {
+    std::string held;
+    for (int b : rep.held) held += fmt::format("{}\"{}\"", held.empty() ? "" : ", ", spec_.bodies[b].name);
+    const SourcePosition& w = spec_.assembly.where;
+    throw InputError(fmt::format(
+        "{}the held bodies' velocities cannot be kept: with {} as given, the least change of the other bodies' "
+        "velocities still leaves the joints' velocity constraints off by {:.3g} (m/s or rad/s; {:.3g} before): the "
+        "joints allow no such motion of the held bodies (check the mechanism's mobility and the held rates, or hold "
+        "fewer bodies)",
+        w.file.empty() ? "" : fmt::format("{}:{}:{}: error: ", w.file, w.line, w.column), held,
+        rep.final_velocity_miss, rep.initial_velocity_miss));
+  }
+
+  // Pivoted bodies only turn about their pivots, keeping the lever their
+  // guess gives: a guess whose position and orientation disagree gives a
+  // wrong lever, and the loop cannot close with it.
+  std::string pivot_hint() const {
+    std::string names;
+    int count = 0;
+    for (int i = 0; i < nb_; ++i)
+      if (pivots_[i].pivoted)
+        names += fmt::format("{}\"{}\" (lever {:.4g} m)", count++ ? ", " : "", spec_.bodies[i].name,
+                             pivots_[i].c.norm());
+    if (count == 0) return "";
+    return fmt::format("; {} only turn{} about {} pivot{}, with the lever from the pivot to the centre of mass that "
+                       "the guess gives (R0^T (position - pivot)): check that each guessed position and orientation "
+                       "agree",
+                       names, count == 1 ? "s" : "", count == 1 ? "its" : "their", count == 1 ? "" : "s");
   }
 
   std::string describe(const AssemblyReport& rep) const {

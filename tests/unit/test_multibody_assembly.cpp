@@ -80,13 +80,13 @@ std::string at_crank_angle(double phi) {
 // by the revolute D: the revolute C keeps its axis along the coupler's, so
 // the mechanism is the same. Its guess turns about D to rocker_angle (the
 // lever, the rocker's centre 0.2 m from D along its x axis, is the pose's).
-std::string with_pivoted_rocker(std::string text, double rocker_angle = -1.2) {
+std::string with_pivoted_rocker(std::string text, double rocker_angle = -1.2, double lever = 0.2) {
   const auto replace = [&](const std::string& from, const std::string& to) {
     const std::size_t at = text.find(from);
     REQUIRE(at != std::string::npos);
     text.replace(at, from.size(), to);
   };
-  const Vec3 centre = Vec3(0.45, 0, 0) + 0.2 * Vec3(std::cos(rocker_angle), 0.0, -std::sin(rocker_angle));
+  const Vec3 centre = Vec3(0.45, 0, 0) + lever * Vec3(std::cos(rocker_angle), 0.0, -std::sin(rocker_angle));
   replace("position = [0.50, 0.0, 0.20]\naxis_angle = { axis = [0.0, 1.0, 0.0], angle = -1.2 }",
           fmt::format("position = [{:.17g}, 0.0, {:.17g}]\naxis_angle = {{ axis = [0.0, 1.0, 0.0], angle = {:.17g} }}"
                       "\npivot = [0.45, 0.0, 0.0]",
@@ -228,6 +228,44 @@ TEST_CASE("a four-bar with its rocker on a pivot moves as the one with the revol
   MESSAGE("rocker centre: largest difference " << worst << " m, largest travel " << travel << " m");
   CHECK(travel > 0.05);  // it swings
   CHECK(worst < 1e-7);
+}
+
+TEST_CASE("a pivoted rocker whose guess gives too long a lever cannot close the loop: the refusal names the pivot") {
+  // Lever 0.8 m: C lies 1.0 m from D, farther than crank and coupler reach
+  // at 60 degrees (|BD| + 0.5 < 1.0).
+  try {
+    multibody::MultibodyProblem p(io::parse_scene(with_pivoted_rocker(problem_text("four_bar_assembled.toml"), -1.2,
+                                                                      0.8), "fb.toml"));
+    FAIL("assembled a loop that cannot close");
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    CAPTURE(msg);
+    CHECK(msg.find("cannot be assembled near the given poses") != std::string::npos);
+    CHECK(msg.find("\"rocker\" (lever 0.8 m) only turns about its pivot") != std::string::npos);
+    CHECK(msg.find("check that each guessed position and orientation agree") != std::string::npos);
+  }
+}
+
+TEST_CASE("a held crank that its joints lock keeps no rate: the assembled start refuses, at [mechanism]") {
+  // The crank held at a pivot at its own centre and by the revolute A at its
+  // end: it cannot turn, so its given 6 rad/s cannot be kept.
+  std::string text = problem_text("four_bar_assembled.toml");
+  const std::string from = "angular_velocity = [0.0, 6.0, 0.0]";
+  const std::size_t at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  text.replace(at, from.size(), from + "\npivot = [0.05000000000000002, 0.0, 0.08660254037844387]");
+  const std::size_t hold = text.find("hold = [\"crank\"]", text.find("[mechanism]\n"));
+  REQUIRE(hold != std::string::npos);
+  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(hold), '\n'));
+  try {
+    multibody::MultibodyProblem p(io::parse_scene(text, "fb.toml"));
+    FAIL("started a locked crank at 6 rad/s");
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    CAPTURE(msg);
+    CHECK(msg.find(fmt::format("fb.toml:{}:", line)) == 0);
+    CHECK(msg.find("the held bodies' velocities cannot be kept: with \"crank\" as given") != std::string::npos);
+  }
 }
 
 TEST_CASE("a four-bar whose pivots are farther apart than its links reach cannot be assembled") {
