@@ -334,8 +334,10 @@ class MultibodyRun(_RunOutcome):
     joint_steps(name)  the same at every IDA step (from steps)
     summary    summary.json as the CLI writes it (with out= or without): status,
                counters, warnings, mobility, recorded parts, build and run
-               provenance, ... The run is the CLI's: any integrator the scene
-               or the options name
+               provenance, the accuracy verdict ("error_estimate": the closed
+               form's error where the scene has one, e.g. the simple pendulum;
+               no companion run, which is the CLI's --error-estimate), ... The
+               run is the CLI's: any integrator the scene or the options name
     out        the folder steps.csv, trajectory.csv and events.csv went to, or None
     """
 

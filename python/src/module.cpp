@@ -13,6 +13,7 @@
 #include <pybind11/stl.h>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -26,12 +27,14 @@
 
 #include "rigidae/app/command_line.hpp"
 #include "rigidae/app/compare.hpp"
+#include "rigidae/app/error_estimate.hpp"
 #include "rigidae/app/provenance.hpp"
 #include "rigidae/app/solve.hpp"
 #include "rigidae/app/study.hpp"
 #include "rigidae/coords/representation.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/exact/exact_solution.hpp"
+#include "rigidae/io/checked_file.hpp"
 #include "rigidae/io/scene_loader.hpp"
 #include "rigidae/model/one_body_system.hpp"
 #include "rigidae/model/recorded_parts.hpp"
@@ -160,6 +163,33 @@ MemoryRows memory_rows(const std::string& record) {
 // An event field events.csv leaves empty: NaN.
 double or_nan(double x, bool given) { return given ? x : std::numeric_limits<double>::quiet_NaN(); }
 
+// The accuracy verdict `rigidae solve` gives without a companion run: the
+// closed form's error (app/error_estimate.hpp) on the output grid kept in
+// memory, as summary.json's "error_estimate" and warnings (also in
+// out/summary.json when the run wrote one).
+void add_verdict(const Scene& scene, SolveOutcome& o, const MemoryRows& memory, const std::optional<std::string>& out) {
+  if (o.run.status != RunStatus::Success || o.summary.empty()) return;
+  ErrorEstimate e;
+  if (!memory.keep_grid || memory.grid_columns.empty()) {
+    e.not_estimated = "record='none' keeps no output grid to compare";
+    judge(e, scene);
+  } else {
+    // The grid as trajectory.csv's text (the shortest text of each double reads back to it).
+    std::string text = fmt::format("{}\n", fmt::join(memory.grid_columns, ","));
+    const std::size_t width = memory.grid_columns.size();
+    for (std::size_t k = 0; k < memory.grid.size(); k += width)
+      text += fmt::format("{}\n", fmt::join(memory.grid.begin() + static_cast<long>(k),
+                                            memory.grid.begin() + static_cast<long>(k + width), ","));
+    e = closed_form_verdict(scene, read_trajectory_text(text, "the run's output grid"));
+    if (!e.estimated())
+      e.not_estimated = "the scene has no closed form and no companion run was made (rigidae solve --error-estimate "
+                        "runs one at rtol/100)";
+  }
+  apply_verdict(o, e);
+  o.summary = with_error_estimate(o.summary, e);
+  if (out) write_file_atomically(fs::path(*out) / "summary.json", o.summary);
+}
+
 // A one-body run held in memory (and written to `out` when given): the CLI's
 // run (app/solve.hpp, run_scene) with the rows kept by the recorder.
 py::dict solve(const Scene& scene, const std::string& record, const std::optional<std::string>& out) {
@@ -172,6 +202,7 @@ py::dict solve(const Scene& scene, const std::string& record, const std::optiona
     o = run_scene(scene, out ? fs::path(*out) : fs::path(), &memory);
     interrupted = interrupt.interrupted();
   }
+  add_verdict(scene, o, memory, out);
   // The events a single body's events.csv holds, its fields empty (NaN) where the file leaves them so.
   py::list events;
   for (const EventNote& e : memory.events) {
@@ -217,6 +248,7 @@ py::dict solve_multibody(const Scene& scene, const std::string& record, const st
     o = run_scene(scene, out ? fs::path(*out) : fs::path(), &memory, names);
     interrupted = interrupt.interrupted();
   }
+  add_verdict(scene, o, memory, out);
   py::list events;
   for (const EventNote& e : memory.events)
     events.append(py::make_tuple(e.t, e.what, e.body, e.from, e.to, e.margin, e.drift_position, e.drift_velocity));

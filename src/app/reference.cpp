@@ -15,6 +15,7 @@
 #include "rigidae/app/solve.hpp"
 #include "rigidae/core/error.hpp"
 #include "rigidae/exact/exact_solution.hpp"
+#include "rigidae/exact/particle_pendulum.hpp"
 #include "rigidae/record/trajectory_csv.hpp"
 #include "rigidae/so3/rotation.hpp"
 
@@ -47,6 +48,20 @@ std::string ReferenceTrajectory::describe() const {
 }
 
 std::optional<ReferenceTrajectory> exact_reference(const Scene& scene, std::string* why) {
+  // A mechanism's closed form: its bodies' positions (the simple pendulum's
+  // particle); else one body's rotation (`why` says why neither).
+  if (const std::optional<exact::ParticlePendulum> pendulum = exact::ParticlePendulum::of(scene, nullptr)) {
+    ReferenceTrajectory ref;
+    ref.exact = ref.ok = true;
+    ref.combination = "exact: " + pendulum->name();
+    ref.accuracy_rad = 0.0;  // a particle does not turn
+    ref.grid.layout = GridLayout::Bodies;
+    ref.grid.bodies = {pendulum->body()};
+    const OutputGrid grid(scene.time);
+    for (std::size_t k = 0; k < grid.size(); ++k)
+      ref.grid.add_point(grid[k], {Vec4(1, 0, 0, 0)}, {pendulum->position(grid[k])}, {Vec3::Zero()});
+    return ref;
+  }
   const std::unique_ptr<exact::ExactSolution> closed_form = exact::find_exact_solution(scene, why);
   if (!closed_form) return std::nullopt;
   ReferenceTrajectory ref;

@@ -8,6 +8,7 @@
 
 #include "rigidae/exact/free_body.hpp"
 #include "rigidae/exact/lagrange_top.hpp"
+#include "rigidae/exact/particle_pendulum.hpp"
 #include "rigidae/model/rigid_body.hpp"
 
 namespace rigidae::exact {
@@ -16,11 +17,16 @@ std::unique_ptr<ExactSolution> make_exact_solution(const Scene& scene, std::stri
   // A mechanism's scene carries no single body of its own: its one-body
   // fields are defaults (an identity rotation at rest), not its motion.
   if (scene.multibody) {
+    std::string pendulum;
+    ParticlePendulum::of(scene, &pendulum);
     if (why != nullptr)
       *why = fmt::format("a scene with bodies and joints (schema_version = 2, {} bodies, {} joints) has no closed "
-                         "form here (closed forms: a torque-free body, a Lagrange top); compare it against a "
-                         "reference run (reference = \"tight\") instead",
-                         scene.multibody->bodies.size(), scene.multibody->joints.size());
+                         "form of one body's rotation here (closed forms: a torque-free body, a Lagrange top; of a "
+                         "mechanism only the simple pendulum's positions, which the accuracy verdict and compare use "
+                         "as their reference: {}); compare it against a reference run (reference = \"tight\") "
+                         "instead",
+                         scene.multibody->bodies.size(), scene.multibody->joints.size(),
+                         pendulum.empty() ? "this scene is one" : pendulum);
     return nullptr;
   }
   const RigidBodyModel model = make_rigid_body_model(scene);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <limits>
 #include <cstdlib>
+#include <fstream>
 #include <sstream>
 
 #include "rigidae/core/error.hpp"
@@ -26,9 +27,18 @@ void split_csv_line(const std::string& line, std::vector<std::string>& cells) {
 
 }  // namespace
 
-CsvRows::CsvRows(const std::filesystem::path& csv) : path_(csv), in_(csv) {
-  if (!in_) throw InputError(fmt::format("{}: cannot read", csv.string()));
-  while (std::getline(in_, line_))
+CsvRows::CsvRows(const std::filesystem::path& csv) : path_(csv), in_(std::make_unique<std::ifstream>(csv)) {
+  if (!*in_) throw InputError(fmt::format("{}: cannot read", csv.string()));
+  read_header();
+}
+
+CsvRows::CsvRows(const std::string& text, const std::string& name)
+    : path_(name), in_(std::make_unique<std::istringstream>(text)) {
+  read_header();
+}
+
+void CsvRows::read_header() {
+  while (std::getline(*in_, line_))
     if (!line_.empty() && line_[0] != '#') {
       split_csv_line(line_, header_);
       break;
@@ -42,7 +52,7 @@ std::size_t CsvRows::column(const std::string& name) const {
 }
 
 bool CsvRows::next() {
-  if (!std::getline(in_, line_)) return false;
+  if (!std::getline(*in_, line_)) return false;
   split_csv_line(line_, cells_);
   return cells_.size() >= header_.size();
 }
@@ -141,13 +151,26 @@ void put(std::string& s, double x) {
 
 }  // namespace
 
-BodyGrid read_trajectory_csv(const std::filesystem::path& csv) {
-  CsvRows rows(csv);
+namespace {
+
+BodyGrid read_grid(CsvRows& rows, const std::filesystem::path& csv) {
   const std::vector<std::string>& header = rows.header();
   if (header.empty() || header[0] != "t")
     throw InputError(fmt::format("{}: no header line starting with t", csv.string()));
   if (std::find(header.begin(), header.end(), "qw") != header.end()) return read_one_body(rows);
   return read_bodies(rows, csv);
+}
+
+}  // namespace
+
+BodyGrid read_trajectory_csv(const std::filesystem::path& csv) {
+  CsvRows rows(csv);
+  return read_grid(rows, csv);
+}
+
+BodyGrid read_trajectory_text(const std::string& text, const std::string& name) {
+  CsvRows rows(text, name);
+  return read_grid(rows, name);
 }
 
 std::string grid_csv_text(const BodyGrid& g, const std::string& note) {

@@ -38,10 +38,16 @@ def test_multibody_module_equals_cli(scene, options, tmp_path):
         assert v == cli["counters"][k], k
     assert run.summary["linear_solver"] == cli["linear_solver"]
     assert run.summary["integrator"] == cli["integrator"]
-    # The accuracy check's warnings, as the CLI's summary.json lists them.
+    # The accuracy check's warnings and the verdict's, as the CLI's summary.json lists them.
     assert [w["message"] for w in run.summary["warnings"]] == [w["message"] for w in cli["warnings"]]
+    # The verdict too (the module names the CLI's option where it has no closed form).
+    py_verdict, cli_verdict = dict(run.summary["error_estimate"]), dict(cli["error_estimate"])
+    assert py_verdict.pop("not_estimated").startswith(cli_verdict.pop("not_estimated")[:40])
+    assert py_verdict == cli_verdict
     if scene == PARTICLE_PENDULUM:
-        assert [w["quantity"] for w in run.summary["warnings"]] == ["energy"]
+        # The energy drift, and the closed form's verdict (the simple pendulum): 7.7e-4 m off at rtol 1e-6.
+        assert [w["quantity"] for w in run.summary["warnings"]] == ["energy", "position_error"]
+        assert run.summary["error_estimate"]["source"] == "closed form"
 
     _, header, rows = read_csv(tmp_path / "cli" / "trajectory.csv")
     assert list(run.grid.dtype.names) == header

@@ -16,6 +16,8 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -149,6 +151,33 @@ TEST_CASE("particle pendulum: every scheme and integrator against the exact solu
     const double err = grid_error(rows);
     MESSAGE(label << ": largest position error over 10 periods " << err << " m");
     CHECK(err <= c.bound * kL);
+  }
+}
+
+TEST_CASE("particle pendulum: solve's verdict is the closed form's position error, and warns where it is past") {
+  // The verdict (app/error_estimate.hpp) takes the simple pendulum's closed
+  // form (exact/particle_pendulum.hpp) as the reference: its position error
+  // equals the one this file computes from trajectory.csv, and IDA's index1,
+  // 9.8e-6 m off over 10 periods, is warned by it (300 x rtol = 3e-8 m).
+  const std::string end = fmt::format("{:.17g}", 10.0 * period());
+  for (const char* scheme : {"ggl", "index1"}) {
+    CAPTURE(std::string(scheme));
+    const auto dir = test::fresh_temp_dir("particle-pendulum-verdict");
+    const auto r = test::run_cli("solve " + scene_path() + " --t-end " + end + " --integrator ida --scheme " + scheme +
+                                 " --rtol 1e-10 --atol 1e-10 --out " + dir.string());
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.output.find("against the closed form") != std::string::npos);
+    const double err = grid_error(test::read_csv_rows(dir / "trajectory.csv"));
+    const std::string summary = test::read_file((dir / "summary.json").string());
+    CHECK(summary.find("\"source\": \"closed form\"") != std::string::npos);
+    std::smatch m;
+    REQUIRE(std::regex_search(summary, m, std::regex("\"position_rel_max\": ([-+.0-9eE]+)")));
+    CHECK(std::stod(m[1].str()) == doctest::Approx(err).epsilon(1e-9));  // L = 1 m
+    CHECK(std::filesystem::exists(dir / "reference.csv"));
+    const bool warned = r.output.find("warning: position_error") != std::string::npos;
+    CHECK(warned == (err > 3e-8));
+    CHECK(warned == (std::string(scheme) == "index1"));
   }
 }
 

@@ -69,6 +69,7 @@
 #include "rigidae/app/accuracy_check.hpp"
 #include "rigidae/app/solve.hpp"
 #include "rigidae/model/scene.hpp"
+#include "rigidae/record/trajectory_csv.hpp"
 
 namespace rigidae {
 
@@ -152,6 +153,11 @@ ErrorEstimate estimate_global_error(const Scene& scene, const SolveOutcome& run,
 ErrorEstimate accuracy_verdict(const Scene& scene, const SolveOutcome& run, bool companion,
                                const std::string& how_to_enable);
 
+// The closed form's verdict on a run's output grid held in memory (the
+// Python module's runs without an output folder); not estimated when the
+// scene has no closed form.
+ErrorEstimate closed_form_verdict(const Scene& scene, const BodyGrid& run_grid);
+
 // The run's warnings with the verdict's appended (compare, study, solve).
 void apply_verdict(SolveOutcome& run, const ErrorEstimate& e);
 
@@ -174,6 +180,8 @@ nlohmann::json error_estimate_json(const ErrorEstimate& e);
 // Adds "error_estimate" to the run's summary.json and the verdict's warnings
 // to its "warnings" (rewritten atomically).
 void add_error_estimate_to_summary(const std::filesystem::path& summary, const ErrorEstimate& e);
+// The same on summary.json's text.
+std::string with_error_estimate(const std::string& summary_text, const ErrorEstimate& e);
 
 // One line for a person: "accuracy not estimated: WHY", or the estimate and its limit.
 std::string describe(const ErrorEstimate& e);

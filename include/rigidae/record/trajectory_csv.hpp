@@ -4,6 +4,8 @@
 // reader of the recorders' CSV files.
 #include <cstddef>
 #include <filesystem>
+#include <istream>
+#include <memory>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -19,6 +21,9 @@ class CsvRows {
  public:
   // Throws InputError naming the file when it cannot be opened.
   explicit CsvRows(const std::filesystem::path& csv);
+  // The same rows from a file's text held in memory; `name` stands for the
+  // file in messages.
+  CsvRows(const std::string& text, const std::string& name);
   // The header's names; empty when the file has no header line.
   const std::vector<std::string>& header() const { return header_; }
   // The index of column `name`; throws InputError naming the file and the column.
@@ -29,8 +34,9 @@ class CsvRows {
   double value(std::size_t k) const;
 
  private:
+  void read_header();
   std::filesystem::path path_;
-  std::ifstream in_;
+  std::unique_ptr<std::istream> in_;
   std::string line_;
   std::vector<std::string> header_, cells_;
 };
@@ -71,6 +77,8 @@ struct BodyGrid {
 // write_grid_csv). Throws InputError naming the file when it is missing or
 // holds neither layout.
 BodyGrid read_trajectory_csv(const std::filesystem::path& csv);
+// The same from the file's text (`name` for messages): an in-memory run's grid.
+BodyGrid read_trajectory_text(const std::string& text, const std::string& name);
 
 // The grid as CSV text in its own layout, after one comment line `# units:
 // ...; ` + `note`: the one-body layout t, qw..qz, omega_x..z (body frame);
