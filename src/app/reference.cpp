@@ -41,7 +41,9 @@ std::string to_string(ReferenceKind k) {
 
 std::string ReferenceTrajectory::describe() const {
   if (!ok) return fmt::format("none ({})", message);
-  if (exact) return fmt::format("{}, the closed-form solution (estimated accuracy {:.1e} rad)", combination, accuracy_rad);
+  if (exact)
+    return fmt::format("{}, the closed-form solution (estimated accuracy {:.1e} rad{})", combination, accuracy_rad,
+                       std::isfinite(accuracy_m) ? fmt::format(", {:.1e} m", accuracy_m) : "");
   return fmt::format("{} at rtol {:g}; its accuracy, estimated as the largest angle to {} at the same rtol over the "
                      "output grid: {:.1e} rad",
                      combination, rtol, check_combination, accuracy_rad);
@@ -55,6 +57,7 @@ std::optional<ReferenceTrajectory> exact_reference(const Scene& scene, std::stri
     ref.exact = ref.ok = true;
     ref.combination = "exact: " + pendulum->name();
     ref.accuracy_rad = 0.0;  // a particle does not turn
+    ref.accuracy_m = pendulum->accuracy();
     ref.grid.layout = GridLayout::Bodies;
     ref.grid.bodies = {pendulum->body()};
     const OutputGrid grid(scene.time);
@@ -93,7 +96,8 @@ ReferenceTrajectory make_reference(const Scene& scene, const std::string& kind, 
     std::string why_not_exact;
     std::optional<ReferenceTrajectory> closed_form = exact_reference(scene, &why_not_exact);
     if (closed_form) {
-      say(fmt::format("reference: {} (accuracy {:.1e} rad)", closed_form->combination, closed_form->accuracy_rad));
+      say(fmt::format("reference: {} (accuracy {:.1e} rad{})", closed_form->combination, closed_form->accuracy_rad,
+                      std::isfinite(closed_form->accuracy_m) ? fmt::format(", {:.1e} m", closed_form->accuracy_m) : ""));
       return *closed_form;
     }
     if (kind == "exact")

@@ -7,6 +7,7 @@
 // between the two over the grid and the bodies.
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,6 +26,7 @@ struct ReferenceTrajectory {
   std::string check_combination;  // the cross-check run's (tight only)
   double rtol = 0.0;              // of the tight runs
   double accuracy_rad = 0.0;      // estimated orientation accuracy over the grid
+  double accuracy_m = std::numeric_limits<double>::quiet_NaN();  // position accuracy (a mechanism's closed form)
   BodyGrid grid;                  // on the scene's output grid
 
   // One line for reports.
