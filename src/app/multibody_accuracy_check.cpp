@@ -29,28 +29,16 @@ double mechanism_size(const MultibodySpec& spec) {
   return std::max(size, kSmallestSize);
 }
 
-// Every force element says whether it is conservative (an undamped spring,
-// gravity and constant space forces are; dampers, follower loads and torques
-// are not): multibody/force_element.hpp.
-bool multibody_conserves_energy(const MultibodySpec& spec) {
-  for (const auto& f : multibody::make_force_elements(spec))
-    if (!f->conservative()) return false;
-  return true;
-}
-
-bool multibody_energy_balance_known(const MultibodySpec& spec) {
-  for (const auto& f : multibody::make_force_elements(spec))
-    if (!f->conservative() && !f->has_power()) return false;
-  return true;
-}
-
 MultibodyInvariantMonitor::MultibodyInvariantMonitor(multibody::MultibodyProblem& problem, const Scene& scene,
                                                      StepSink* next)
     : problem_(problem), next_(next), scene_(scene) {
   d_ = {kNaN, kNaN, kNaN, 0.0, 0.0, kNaN};
   const MultibodySpec& spec = *scene.multibody;
-  conservative_ = multibody_energy_balance_known(spec);
-  has_work_ = !multibody_conserves_energy(spec) || !spec.drivers.empty();
+  // Every force element says whether it is conservative (an undamped spring,
+  // gravity and constant space forces are; dampers, follower loads and
+  // torques are not) and whether it reports its power: multibody/force_element.hpp.
+  conservative_ = problem_.energy_balance_known();
+  has_work_ = problem_.has_work();
   if (conservative_) d_.energy = 0.0;
   size_ = mechanism_size(spec);
   for (const BodySpec& b : spec.bodies) mass_ += b.mass;

@@ -171,6 +171,12 @@ bool MultibodyProblem::conserves_energy() const {
   return true;
 }
 
+bool MultibodyProblem::energy_balance_known() const {
+  for (const auto& f : forces_)
+    if (!f->conservative() && !f->has_power()) return false;
+  return true;
+}
+
 int MultibodyProblem::joint_coordinate_count(int joint) const {
   return first_coordinate_[joint + 1] - first_coordinate_[joint];
 }

@@ -161,7 +161,10 @@ std::string MechanismColumns::final_report(const RunExtremes& x, double t_reache
   // trajectory.csv, and a vertical momentum is not tracked.
   std::string s = fmt::format("  final t       {:.9g} s (each body's state: trajectory.csv)\n", t_reached);
   s += fmt::format("  max drift     position {:.2e}, velocity {:.2e}\n", x.max_drift_position, x.max_drift_velocity);
-  s += fmt::format("  invariants    max |energy rel. error| {:.2e}\n", x.max_abs_energy_error);
+  s += fmt::format("  invariants    max |energy rel. error| {:.2e}{}\n", x.max_abs_energy_error,
+                   problem_.energy_balance_known()
+                       ? ""
+                       : " (not an error here: the dampers' dissipation is not counted; the energy check is off)");
   // Singular poses passed (multibody/row_subset.cpp, pose_bridge.cpp).
   const auto& poses = problem_.singular_poses();
   if (!poses.empty()) {

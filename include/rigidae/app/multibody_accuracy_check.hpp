@@ -45,12 +45,6 @@ namespace rigidae {
 // position error, app/error_estimate.hpp).
 double mechanism_size(const MultibodySpec& spec);
 
-// Whether a multibody scene conserves its energy (see above).
-bool multibody_conserves_energy(const MultibodySpec& spec);
-// Whether its energy balance H - H0 = W is checked: every force element is
-// conservative or reports its power (drivers always do).
-bool multibody_energy_balance_known(const MultibodySpec& spec);
-
 // A StepSink in front of the recorder (or of nothing, for a run that records
 // nothing): forwards everything and measures each accepted step.
 class MultibodyInvariantMonitor final : public RunMonitor {

@@ -351,6 +351,9 @@ class MultibodyProblem final : public DaeProblem {
   double elastic_energy(const double* y);
   // Every force element is conservative (the energy check applies).
   bool conserves_energy() const;
+  // Every non-conservative element reports its power (drivers and loads:
+  // H - H0 - W balances); false with a damper, whose dissipation is not tracked.
+  bool energy_balance_known() const;
   Vec3 linear_momentum(const double* y) const;
   Vec3 angular_momentum(const double* y) const;  // about the space origin
   // One output row: per body (BODY.qw .. qz, BODY.wx .. wz in space,
