@@ -325,6 +325,10 @@ IntegratorRanking rank_integrators(const CompareReport& r) {
   if (!(largest > 0.0)) return k;
   // A run exact to round-off (error 0) is ranked at the smallest level shown.
   smallest = std::max(smallest, largest * 1e-30);
+  // Below the reference's own accuracy (its cross-check's distance, or the
+  // closed form's) an error is the reference's, not the row's: no level there.
+  const double floor = r.positions ? r.reference.accuracy_m : r.reference.accuracy_rad;
+  if (std::isfinite(floor) && floor > 0.0) smallest = std::max(smallest, std::min(floor, largest));
   const int top = static_cast<int>(std::ceil(std::log10(largest)));
   const int bottom = std::max(static_cast<int>(std::ceil(std::log10(smallest))), top - kMaxRankingLevels + 1);
   for (int p = top; p >= bottom; --p) {
@@ -467,7 +471,9 @@ void write_compare_outputs(const CompareReport& r, const std::filesystem::path& 
                      " (max |Phi| over the constraint rows: 1, m or rad)",
                      r.reference.combination,
                      r.reference.exact ? "" : fmt::format(" at rtol {:g}", r.reference.rtol), r.reference.accuracy_rad,
-                     "; the worst body");
+                     (std::isfinite(r.reference.accuracy_m) ? fmt::format(", {:.3e} m", r.reference.accuracy_m)
+                                                            : std::string()) +
+                         "; the worst body");
     f << "combination,coordinates,equations,scheme,status,steps,residual_evals,jacobian_residual_evals,jacobian_evals,"
          "nonlinear_iters,error_test_fails,nonlinear_conv_fails,restarts,projections,chart_switches,wall_s,repeats,"
          "max_drift_position,max_drift_velocity,max_abs_energy_rel_error,error_final_rad,error_max_rad,lambda_min,"

@@ -49,7 +49,8 @@ void MultibodyInvariantMonitor::on_output(double t, const Eigen::VectorXd& y) {
     started_ = true;
     const double T0 = problem_.kinetic_energy(y.data());
     h0_ = T0 + problem_.potential_energy(y.data());
-    if (has_work_) work_.follow(t, y.data(), y.size(), problem_.size(), [&] { return problem_.work_rate(t, y.data()); });
+    if (has_work_)
+      work_.follow(t, y.data(), y.size(), problem_.size(), [&] { return problem_.work_rate(t, y.data()); });
     // The springs' energy at the start can turn into motion as well (a wound
     // torsion spring released from rest has T0 = 0).
     e_scale_ = T0 + problem_.elastic_energy(y.data()) + scene_.multibody->gravity_W.norm() * size_ * mass_;
@@ -68,7 +69,8 @@ void MultibodyInvariantMonitor::on_step(double t, double h, int order, const Eig
   d_.constraint_velocity = std::max(d_.constraint_velocity, velocity / v_scale_);
   if (conservative_) {
     const double H = problem_.kinetic_energy(y.data()) + problem_.potential_energy(y.data());
-    if (has_work_) work_.follow(t, y.data(), y.size(), problem_.size(), [&] { return problem_.work_rate(t, y.data()); });
+    if (has_work_)
+      work_.follow(t, y.data(), y.size(), problem_.size(), [&] { return problem_.work_rate(t, y.data()); });
     d_.energy = std::max(d_.energy, std::abs(H - h0_ - work_.value()) / e_scale_);
   }
 }

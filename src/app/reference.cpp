@@ -96,8 +96,9 @@ ReferenceTrajectory make_reference(const Scene& scene, const std::string& kind, 
     std::string why_not_exact;
     std::optional<ReferenceTrajectory> closed_form = exact_reference(scene, &why_not_exact);
     if (closed_form) {
+      const double m = closed_form->accuracy_m;
       say(fmt::format("reference: {} (accuracy {:.1e} rad{})", closed_form->combination, closed_form->accuracy_rad,
-                      std::isfinite(closed_form->accuracy_m) ? fmt::format(", {:.1e} m", closed_form->accuracy_m) : ""));
+                      std::isfinite(m) ? fmt::format(", {:.1e} m", m) : ""));
       return *closed_form;
     }
     if (kind == "exact")
@@ -130,14 +131,17 @@ ReferenceTrajectory make_reference(const Scene& scene, const std::string& kind, 
   ref.accuracy_rad = kNaN;
   if (ref.ok) {
     fill_from_run(ref, dir);
-    ref.accuracy_rad = max_body_angle(read_trajectory_csv(dir / "reference-check" / "trajectory.csv"), ref.grid);
+    const BodyGrid check = read_trajectory_csv(dir / "reference-check" / "trajectory.csv");
+    ref.accuracy_rad = max_body_angle(check, ref.grid);
+    ref.accuracy_m = max_body_distance(check, ref.grid);  // NaN without positions (a single body)
   }
   nlohmann::json j{{"ok", ref.ok},
                    {"message", ref.message},
                    {"combination", ref.combination},
                    {"check_combination", ref.check_combination},
                    {"rtol", ref.rtol},
-                   {"accuracy_rad", ref.accuracy_rad}};
+                   {"accuracy_rad", ref.accuracy_rad},
+                   {"accuracy_m", std::isfinite(ref.accuracy_m) ? nlohmann::json(ref.accuracy_m) : nlohmann::json()}};
   write_file_atomically(dir / kSummary, j.dump(2) + "\n");
   return ref;
 }
@@ -159,6 +163,7 @@ std::optional<ReferenceTrajectory> read_reference(const std::filesystem::path& d
   ref.check_combination = j.value("check_combination", "");
   ref.rtol = j.value("rtol", 0.0);
   ref.accuracy_rad = j["accuracy_rad"].is_number() ? j["accuracy_rad"].get<double>() : kNaN;
+  ref.accuracy_m = j.contains("accuracy_m") && j["accuracy_m"].is_number() ? j["accuracy_m"].get<double>() : kNaN;
   fill_from_run(ref, dir);
   return ref;
 }

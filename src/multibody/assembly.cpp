@@ -156,7 +156,8 @@ class Assembler {
     // The held bodies keep their angular velocities: when the joints allow
     // no such motion the others cannot make up for it, and the start would
     // change the held rates after all (the DAE's own projection).
-    if (!spec_.assembly.held.empty() && rep.final_velocity_miss > spec_.start_tolerance * std::max(1.0, V_given.cwiseAbs().maxCoeff()))
+    const double velocity_limit = spec_.start_tolerance * std::max(1.0, V_given.cwiseAbs().maxCoeff());
+    if (!spec_.assembly.held.empty() && rep.final_velocity_miss > velocity_limit)
       refuse_velocities(rep);
     // A pivoted body's centre of mass moves with its rotation about the pivot.
     for (int i = 0; i < nb_; ++i)

@@ -151,7 +151,8 @@ std::string MechanismColumns::note(const std::string& /*scheme_note*/) const {
   note += fmt::format("; mobility {} (rank), {} (Gruebler-Kutzbach)", rr.rank_dof, rr.gruebler_dof);
   if (!spec.drivers.empty())
     note += fmt::format(", {} driver{} counted as constraints", spec.drivers.size(), spec.drivers.size() == 1 ? "" : "s");
-  if (!rr.dropped.empty()) note += ", " + text::count(rr.dropped.size(), "redundant row", "redundant rows") + " set aside";
+  if (!rr.dropped.empty())
+    note += ", " + text::count(rr.dropped.size(), "redundant row", "redundant rows") + " set aside";
   if (const multibody::AssemblyReport& ar = problem_.assembly(); ar.done) note += "; " + ar.note;
   return note;
 }

@@ -215,4 +215,14 @@ double max_body_angle(const BodyGrid& a, const BodyGrid& b) {
   return n > 0 && nb > 0 ? m : std::numeric_limits<double>::quiet_NaN();
 }
 
+double max_body_distance(const BodyGrid& a, const BodyGrid& b) {
+  const std::size_t n = std::min(a.t.size(), b.t.size());
+  const std::size_t nb = std::min(a.bodies.size(), b.bodies.size());
+  if (!a.has_positions() || !b.has_positions() || n == 0 || nb == 0) return std::numeric_limits<double>::quiet_NaN();
+  double m = 0.0;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t k = 0; k < nb; ++k) m = std::max(m, (a.x_W[i][k] - b.x_W[i][k]).norm());
+  return m;
+}
+
 }  // namespace rigidae

@@ -98,6 +98,25 @@ TEST_CASE("compare ranking: the printed table marks the fastest and names its ro
   CHECK(format_integrator_ranking(unreferenced).empty());
 }
 
+TEST_CASE("compare ranking: no level below the reference's own accuracy") {
+  // A row that is the reference's own run (--reference-rtol at the scene's
+  // rtol) shows an error of round-off: 1e-19 rad against the reference it
+  // is. The levels stop at the reference's accuracy (its cross-check's
+  // 2.9e-10 rad: down to 1e-9), where every row that beats it is ranked.
+  CompareReport r = report();
+  r.rows.push_back(row("ggl", "ida", 1e-19, 0.2));  // 6
+  r.reference.accuracy_rad = 2.9e-10;
+  const IntegratorRanking k = rank_integrators(r);
+  REQUIRE(k.levels.size() == 7);  // 1e-3 ... 1e-9
+  CHECK(k.levels.back().level == doctest::Approx(1e-9).epsilon(1e-15));
+  CHECK(k.levels.back().row == std::vector<int>{6, -1, -1, -1});
+  // A mechanism: the reference's position accuracy in m.
+  r.positions = true;
+  r.reference.accuracy_m = 3e-6;
+  const IntegratorRanking m = rank_integrators(r);
+  CHECK(m.levels.back().level == doctest::Approx(1e-5).epsilon(1e-15));
+}
+
 TEST_CASE("compare ranking: a mechanism is ranked by its centre-of-mass error in m") {
   CompareReport r = report();
   r.positions = true;

@@ -261,7 +261,8 @@ TEST_CASE("crank-slider driven: on ARKODE the driver's work is integrated with t
     const SolveOutcome o = solve_scene(s, dir);
     REQUIRE_MESSAGE(o.run.status == RunStatus::Success, o.run.message);
     const Errors e = compare(s, dir);
-    MESSAGE(std::string(integrator) << ": angle " << e.angle << " rad, torque " << e.torque << ", max |energy_rel_error| "
+    MESSAGE(std::string(integrator) << ": angle " << e.angle << " rad, torque " << e.torque
+                                    << ", max |energy_rel_error| "
                        << o.extremes.max_abs_energy_error << ", energy drift " << o.drifts.energy << " (tolerance "
                        << o.drifts.tolerance << ")");
     CHECK(e.angle <= 1e-6);

@@ -77,7 +77,8 @@ TEST_CASE("fuzz regressions: a collinear loop of spherical joints starts with it
   const std::string& message = problem->warnings()[0];
   CAPTURE(message);
   CHECK(message.find('\n') == std::string::npos);
-  CHECK(std::regex_search(message, std::regex(R"(^loop\.toml:[0-9]+:[0-9]+: [0-9]+ of the [0-9]+ constraint rows (is|are) redundant)")));
+  CHECK(std::regex_search(
+      message, std::regex(R"(^loop\.toml:[0-9]+:[0-9]+: [0-9]+ of the [0-9]+ constraint rows (is|are) redundant)")));
   for (const auto& d : r.dropped)
     CHECK(message.find(scene.multibody->joints[d.joint].name + "." + d.row) != std::string::npos);
   bool singular_warned = false;

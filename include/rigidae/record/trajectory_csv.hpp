@@ -89,5 +89,8 @@ std::string grid_csv_text(const BodyGrid& g, const std::string& note);
 // Largest rotation angle (rad) between the two grids' body orientations, over
 // the grid points and bodies both have; NaN when they share none.
 double max_body_angle(const BodyGrid& a, const BodyGrid& b);
+// Largest centre-of-mass distance (m) between them the same way; NaN when
+// either records no position or they share no point.
+double max_body_distance(const BodyGrid& a, const BodyGrid& b);
 
 }  // namespace rigidae
