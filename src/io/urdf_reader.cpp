@@ -43,7 +43,7 @@ namespace {
 using tinyxml2::XMLElement;
 
 constexpr double kMaxLength = 1e6;   // m: origins (wrong units beyond)
-constexpr double kMaxMass = 1e9;     // kg
+constexpr double kMaxUrdfMass = 1e9;     // kg
 constexpr double kMaxInertia = 1e12; // kg m^2
 // Relative slack in the triangle inequality and positive semi-definiteness
 // of an inertia (written values are rounded to a few digits).
@@ -150,8 +150,8 @@ class Reader {
     const XMLElement* m = e->FirstChildElement("mass");
     if (!m) fail(e, "missing <mass value=\"...\"/> (kg)");
     in.mass = number_attribute(m, "value", "kg, >= 0");
-    if (!(in.mass >= 0.0 && in.mass <= kMaxMass))
-      fail(m, fmt::format("value=\"{}\": a mass must lie in [0, {:g}] kg", in.mass, kMaxMass));
+    if (!(in.mass >= 0.0 && in.mass <= kMaxUrdfMass))
+      fail(m, fmt::format("value=\"{}\": a mass must lie in [0, {:g}] kg", in.mass, kMaxUrdfMass));
     const XMLElement* i = e->FirstChildElement("inertia");
     if (!i)
       fail(e, "missing <inertia ixx=\"..\" ixy=\"..\" ixz=\"..\" iyy=\"..\" iyz=\"..\" izz=\"..\"/> (kg m^2, about "

@@ -69,7 +69,7 @@ MassPart combine_mass_parts(const std::vector<MassPart>& parts) {
 namespace {
 
 constexpr std::string_view kWorld = "world";
-constexpr std::size_t kMaxNameBytes = 64;
+constexpr std::size_t kMaxUrdfNameBytes = 64;
 // A merged inertia whose smallest principal moment is below this fraction of
 // its largest is taken as singular (a point mass or a thin rod).
 constexpr double kSingularInertia = 1e-10;
@@ -98,7 +98,7 @@ std::string part_name(const std::string& urdf_name) {
     s += ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-') ? c
                                                                                                              : '_';
   if (s.empty() || s.front() == '-') s = "_" + s;
-  if (s.size() > kMaxNameBytes) s.resize(kMaxNameBytes);
+  if (s.size() > kMaxUrdfNameBytes) s.resize(kMaxUrdfNameBytes);
   std::string low = s;
   for (char& c : low) c = text::lower(c);
   if (low == "ground") s += "_link";

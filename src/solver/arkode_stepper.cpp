@@ -93,7 +93,7 @@ class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
     if (!mem_) throw SolverError("ERKStepCreate failed");
     try {
       configure(method, atol, opt, span, data, n_events);
-      if (order_ > kHermiteExactOrder) make_restep(method, x0, atol, opt, ctx, data);
+      if (order_ > kHermiteExactOrder) make_restep(method, x0, ctx, data);  // its tolerances: data.rtol, data.atol
     } catch (...) {
       free_all();
       throw;
@@ -197,8 +197,7 @@ class ArkodeStepper final : public SundialsStepper<ErkStepCalls> {
     return flag;
   }
 
-  void make_restep(const ErkMethodInfo& method, N_Vector x0, N_Vector atol, const SolverSettings& opt, SUNContext ctx,
-                   CallbackData& data) {
+  void make_restep(const ErkMethodInfo& method, N_Vector x0, SUNContext ctx, CallbackData& data) {
     data_ = &data;
     start_y_ = N_VClone(x0);
     ya_ = N_VClone(x0);
