@@ -58,7 +58,7 @@ void add_gradient(const BodyVector& u, const Vec3& other, double coeff, const st
   const auto b = static_cast<std::size_t>(u.body);
   const Pose& p = poses[b];
   const bool pivoted = pivots[b].pivoted;
-  const Vec3 lever = !u.point ? Vec3(p.R * u.s) : pivoted ? Vec3(p.x - pivots[b].o + p.R * u.s) : Vec3(p.R * u.s);
+  const Vec3 lever = u.point && pivoted ? Vec3(p.x - pivots[b].o + p.R * u.s) : Vec3(p.R * u.s);
   const int o = 6 * u.body;
   if (u.point && !pivoted)
     for (int k = 0; k < 3; ++k) grad.emplace_back(o + k, coeff * other(k));
