@@ -291,6 +291,7 @@ void MultibodyProblem::evaluate(double t, const double* y, int order, bool for_r
   // reports; the residual and matrix of decoupled bodies (bodies_decoupled:
   // a one-body scene) read only the rotation block's terms.
   const bool placement = !for_rows || !decoupled_;
+  placement_evaluated_ = placement;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const BodyModel& b = bodies_[i];
     BodyWork& w = work_[i];

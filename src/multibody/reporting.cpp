@@ -506,8 +506,8 @@ bool MultibodyProblem::has_work() const {
   return false;
 }
 
-double MultibodyProblem::work_rate(double t, const double* y) {
-  evaluate(t, y, 2);
+double MultibodyProblem::work_rate(double t, const double* y, bool just_evaluated) {
+  if (!just_evaluated || !placement_evaluated_ || t != evaluated_t_) evaluate(t, y, 2);
   double power = 0.0;
   for (const auto& f : forces_)
     if (!f->conservative() && f->has_power()) power += f->power(force_bodies_);

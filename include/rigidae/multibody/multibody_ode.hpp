@@ -183,7 +183,6 @@ class MultibodyOde final : public OdeProblem {
   int n_ = 0, n_state_ = 0, nv_ = 0, n_lambda_ = 0, ns_ = 0;
   bool integrates_work_ = false;  // x = (q | v | W): see above
   double last_work_ = 0.0;        // W of the last observation (for a bridged one)
-  Eigen::VectorXd y_work_;        // the DAE layout at the KKT solution, for P
   bool has_internal_ = false;
   std::vector<int> q_index_;  // the q entries of y
   std::vector<int> s_index_;  // the KKT unknowns' entries of y: velocities, then multipliers (ascending)

@@ -398,8 +398,12 @@ class MultibodyProblem final : public DaeProblem {
   double driver_power(const double* y);
   // The power of the drivers and of the force elements without a potential
   // that report it (ForceElement::power) at (t, y), W: dW/dt of the energy
-  // check's work.
-  double work_rate(double t, const double* y);
+  // check's work. just_evaluated: the bodies were evaluated at y's
+  // positions and velocities at t by the last residual (the ODE form's right-hand side, which
+  // then writes the multipliers into the same y): the placement and the rows that residual
+  // evaluated are the ones the power needs (R and its first partials in the Euler form, the
+  // second ones in the Lagrange form), so they are not evaluated again.
+  double work_rate(double t, const double* y, bool just_evaluated = false);
   // Whether anything does work that work_rate counts (drivers, or force
   // elements without a potential that report their power).
   bool has_work() const;
@@ -543,6 +547,7 @@ class MultibodyProblem final : public DaeProblem {
   int n_state_ = 0;  // the bodies' q and v come first
   bool has_force_blocks_ = false;
   bool decoupled_ = false;  // bodies_decoupled(), fixed once the model is built
+  bool placement_evaluated_ = false;  // the last evaluate() filled each body's R(q) (for_rows may skip it)
   SparsityPattern pattern_;
   std::unique_ptr<JacobianSink> sink_;
   std::vector<BodyWork> work_;
