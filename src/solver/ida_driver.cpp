@@ -21,6 +21,7 @@
 #include <utility>
 
 #include "dense_lu_solver.hpp"
+#include "ida_newton_test.hpp"
 #include "central_differences.hpp"
 #include "rigidae/core/error.hpp"
 #include "serial_vector.hpp"
@@ -119,9 +120,12 @@ using solver::CentralDifferences;
 struct IdaSession {
   SUNContext ctx = nullptr;
   N_Vector y = nullptr, yp = nullptr, id = nullptr, atol = nullptr, dky = nullptr;
+  N_Vector unchecked = nullptr;  // 1 - id: the algebraic unknowns (ida_newton_test.hpp)
   SUNMatrix A = nullptr;
   SUNLinearSolver LS = nullptr;
   void* mem = nullptr;
+  SUNNonlinearSolver NLS = nullptr;  // Newton with rigidae's convergence test (ida_newton_test.hpp)
+  sun::IdaNewtonTest newton_test;
 
   // nnz > 0: a sparse (CSC) matrix with that many entries and KLU.
   IdaSession(int n, long nnz) {
@@ -133,6 +137,7 @@ struct IdaSession {
     id = sun::new_serial_vector(n, ctx);
     atol = sun::new_serial_vector(n, ctx);
     dky = sun::new_serial_vector(n, ctx);
+    unchecked = sun::new_serial_vector(n, ctx);
     A = nnz > 0 ? SUNSparseMatrix(n, n, nnz, CSC_MAT, ctx) : SUNDenseMatrix(n, n, ctx);
     LS = !A ? nullptr : nnz > 0 ? SUNLinSol_KLU(y, A, ctx) : sun::new_dense_lu_solver(y, A, ctx);
     // KLU's fill-reducing ordering: AMD on A + A^T, not SUNDIALS' default
@@ -140,13 +145,14 @@ struct IdaSession {
     // than the number of bodies (docs/benchmarks.md, "N-link chain").
     if (LS && nnz > 0) SUNLinSol_KLUSetOrdering(LS, 0);
     mem = IDACreate(ctx);
-    if (!y || !yp || !id || !atol || !dky || !A || !LS || !mem) throw SolverError("out of memory creating IDA");
+    if (!y || !yp || !id || !atol || !dky || !unchecked || !A || !LS || !mem) throw SolverError("out of memory creating IDA");
   }
   ~IdaSession() {
     if (mem) IDAFree(&mem);
+    if (NLS) SUNNonlinSolFree(NLS);
     if (LS) SUNLinSolFree(LS);
     if (A) SUNMatDestroy(A);
-    for (N_Vector v : {y, yp, id, atol, dky})
+    for (N_Vector v : {y, yp, id, atol, dky, unchecked})
       if (v) N_VDestroy(v);
     if (ctx) SUNContext_Free(&ctx);
   }
@@ -410,6 +416,13 @@ void IdaRun::start() {
   t_ida_said.clear();
   check(IDASetErrHandlerFn(mem, keep_ida_message, nullptr), "IDASetErrHandlerFn");
   check(IDAInit(mem, residual_callback, t_, ida_.y, ida_.yp), "IDAInit");
+  const bool suppressed = problem_.suppress_algebraic_error_test();
+  if (suppressed) {
+    N_VScale(-1.0, ida_.id, ida_.unchecked);
+    N_VAddConst(ida_.unchecked, 1.0, ida_.unchecked);
+  }
+  ida_.NLS = sun::attach_newton(mem, ida_.y, ida_.ctx, suppressed ? ida_.unchecked : nullptr, ida_.newton_test);
+  if (!ida_.NLS) throw SolverError("IDA: attaching the Newton solver failed");
   // Unknowns held at a fixed value count in IDA's root-mean-square norms
   // without ever carrying an error: tighten rtol and atol by the square root
   // of their share so that the norms over the others are as without them.

@@ -209,7 +209,9 @@ TEST_CASE("Dzhanibekov flip: the flip interval is 2 K(k) / lambda, and invariant
   // |L| (body components) and the energy; L in space is fixed.
   const RigidBodyModel m = make_rigid_body_model(s);
   const Vec3 w_end = r.outcome.extremes.last.omega_B;
-  CHECK(std::abs((m.J_B * w_end).norm() / std::sqrt(L2) - 1.0) < 2e-7);  // measured 4.6e-8
+  // Measured 4.6e-8 while IDA's Newton accepted the multipliers' first
+  // corrections unchecked (src/solver/ida_newton_test.hpp), 2.1e-7 since.
+  CHECK(std::abs((m.J_B * w_end).norm() / std::sqrt(L2) - 1.0) < 5e-7);
   CHECK(r.outcome.extremes.max_abs_energy_error < 1e-6);                 // measured 3.3e-7
   CHECK(r.error_max < 2e-5);                                              // measured 6.0e-6 rad
 }
@@ -257,11 +259,14 @@ TEST_CASE("thin rod top: Euler angles handle the near-degenerate inertia, and th
   const Run quat = run(s, "quaternion-euler");
   const Run quat_lagrange = run(with(s, Coordinates::Quaternion, Equations::Lagrange), "quaternion-lagrange");
   for (const Run* r : {&angles, &quat, &quat_lagrange}) REQUIRE(r->outcome.run.status == RunStatus::Success);
-  // Measured 2.1e-6, 2.2e-6 and 2.6e-4 rad; 299, 3878 and 19385 steps.
+  // Measured 2.0e-6, 2.7e-6 and 5.8e-5 rad; 301, 2881 and 1406 steps. (While
+  // IDA's Newton accepted the multipliers' first corrections unchecked,
+  // src/solver/ida_newton_test.hpp, the quaternion Lagrange form took 19385
+  // steps and ended 2.6e-4 rad off: its multipliers, wrong by far more than
+  // the tolerance, failed the error test of the states they drive.)
   CHECK(angles.error_max < 6e-6);
   CHECK(quat.error_max < 7e-6);
-  CHECK(quat_lagrange.error_max > 30 * quat.error_max);
-  CHECK(quat_lagrange.outcome.run.counters.steps > 2 * quat.outcome.run.counters.steps);
+  CHECK(quat_lagrange.error_max > 10 * quat.error_max);
   // The spin about the rod, constant for a symmetric top, in the Euler form.
   CHECK(quat.outcome.extremes.last.omega_B(2) == doctest::Approx(100.0).epsilon(1e-8));
 }

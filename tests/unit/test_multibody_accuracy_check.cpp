@@ -43,8 +43,15 @@ TEST_CASE("multibody accuracy check: a run that drifts off the energy is flagged
   const auto& tight = rows["quaternion/euler/ggl"];
   const double e_loose = std::stod(loose.at("error_final_rad")), e_tight = std::stod(tight.at("error_final_rad"));
   MESSAGE("index3: " << e_loose << " rad, warnings " << loose.at("warnings") << "; ggl: " << e_tight << " rad");
-  // The truth: index3 is far worse than its tolerance, ggl within its order.
-  CHECK(e_loose > 100.0 * e_tight);
+  // The truth: index3's energy, which its uncontrolled velocities carry,
+  // drifts far more than ggl's, and its orientation is farther off (measured
+  // 1.5e-5 against 4.5e-7 relative energy; 9.2e-7 against 1.7e-7 rad. Until
+  // IDA's Newton checked the multipliers' first corrections,
+  // src/solver/ida_newton_test.hpp, index3 ended 1.1e-4 rad off.)
+  const double drift_loose = std::stod(loose.at("max_abs_energy_rel_error"));
+  const double drift_tight = std::stod(tight.at("max_abs_energy_rel_error"));
+  CHECK(drift_loose > 10.0 * drift_tight);
+  CHECK(e_loose > 3.0 * e_tight);
   CHECK(e_tight < 1e-6);
   CHECK(loose.at("warnings").find("energy") != std::string::npos);
   CHECK(tight.at("warnings") == "\"\"");

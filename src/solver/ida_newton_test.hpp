@@ -1,0 +1,54 @@
+#pragma once
+// IDA's Newton convergence test, with one change: the convergence rate a
+// step's first correction is judged by is never taken below kCarriedRateFloor.
+//
+// IDA (6.4, ida_nls.c) accepts the corrector after its first iteration when
+//   ss * ||delta_0|| <= epsNewt,   ss = rate / (1 - rate),
+// where `rate` is the last one measured: ss is reset to 20 when the iteration
+// matrix is rebuilt and to 100 when cj differs from the last accepted step's,
+// and otherwise carried from step to step. A Newton iteration on a system
+// that is nearly linear in the new unknowns measures rates of 1e-10 and less,
+// so at a constant step size and order ss becomes so small that the next
+// step's first correction is accepted whatever its size. For the states
+// that is harmless (the local error test judges them); the multipliers are
+// left out of that test (every scheme suppresses it: record/error_control.hpp),
+// and nothing else checks them. Measured on a crank driven at a constant
+// rate (quaternion/lagrange/index1, rtol 1e-10): from t = 0.3 s on, steps
+// were accepted after one correction of WRMS norm 1e7 to 1e8, whose residual
+// left 81 N m in the crank's momentum rows, and the driving torque read
+// -1.97 ... 2e12 N m (the closed form: 0.245 N m at most).
+//
+// Below the floor a first correction must be within epsNewt / ss_floor
+// (about 30 x epsNewt) to be accepted; larger ones get a second iteration,
+// whose rate is measured. Elsewhere the test is IDA's, bit for bit (its
+// bookkeeping of ss is rebuilt from IDA's public counters: steps, setups
+// of the linear solver, the current cj).
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_nonlinearsolver.h>
+
+namespace rigidae::sun {
+
+// The rate below which a carried rate is not trusted for a first correction.
+inline constexpr double kCarriedRateFloor = 0.01;
+
+struct IdaNewtonTest {
+  void* ida_mem = nullptr;
+  double ss = 20.0;          // IDA's ida_ss
+  double oldnrm = 0.0;       // the first correction's norm in this attempt
+  double cj_last = 0.0;      // cj of the last accepted step (IDA's ida_cjlast)
+  double cj_seen = 0.0;      // cj at the last test
+  long steps_seen = 0;       // IDA's step count at the last test
+  long setups_seen = -1;     // its linear-solver setups at the last test
+  long floor_rejections = 0; // first corrections the floor sent to a second iteration
+  N_Vector unchecked = nullptr;  // 1 on the unknowns IDA's error test leaves out, else 0 (null: none)
+};
+
+// A Newton solver for IDA with the test above; the caller frees it after
+// IDAFree (IDA does not own a solver attached this way). Null on failure.
+// unchecked: the mask of the unknowns outside the local error test (the
+// algebraic ones when IDASetSuppressAlg is on), kept by the caller; null when
+// the error test sees every unknown, and the test is then IDA's.
+SUNNonlinearSolver attach_newton(void* ida_mem, N_Vector y, SUNContext ctx, N_Vector unchecked,
+                                 IdaNewtonTest& test);
+
+}  // namespace rigidae::sun
