@@ -5,7 +5,9 @@
 // (DaeProblem::suppress_algebraic_error_test: every scheme does, since the
 // multipliers of index-2 and index-3 formulations are not smooth enough for
 // it); they are then as accurate as each step's Newton solve, with no error
-// estimate. The ODE integrators carry no multipliers: they are solved from
+// estimate (a first correction is accepted without a second iteration only
+// within about 30 x the Newton tolerance in their weighted norm,
+// src/solver/ida_newton_test.hpp). The ODE integrators carry no multipliers: they are solved from
 // the state after each step, so their error follows the state's, unmeasured.
 // summary.json (multipliers_error_controlled, multipliers_error_note) and the
 // units line of a mechanism's step file state it.
