@@ -66,7 +66,8 @@ PRESETS = {
         "single_rtols": [10.0 ** -k for k in range(4, 13)],
         "mechanisms": [("four_bar.toml", 1.0), ("double_pendulum.toml", 1.0), ("slider_mechanism.toml", 1.0),
                        ("heavy_top_absolute.toml", 0.5), ("bricard.toml", 0.3), ("singular_linkage.toml", None),
-                       ("four_bar_assembled.toml", 1.0)],
+                       ("four_bar_assembled.toml", 1.0), ("crank_slider_driven.toml", None),
+                       ("particle_pendulum.toml", None)],
         "mechanism_rtols": [10.0 ** -k for k in range(4, 11)],
     },
     # The parallelogram through its collinear (singular) poses alone, against its closed form.
@@ -105,6 +106,11 @@ def parallelogram_truth(t):
 
 # Mechanisms whose truth is a closed form rather than a tight reference run.
 CLOSED_FORM_MECHANISMS = {"singular_linkage.toml": parallelogram_truth}
+# Mechanisms whose closed form rigidae itself knows and writes beside each run (reference.csv; the
+# simple pendulum, src/exact/particle_pendulum.cpp, from Jacobi's sn and dn), and whose bodies are
+# particles: no rotation coordinates, so coordinates and equations do not matter and each scheme
+# runs once (as quaternion/euler).
+PARTICLE_MECHANISMS = {"particle_pendulum.toml"}
 RUN_TIMEOUT_S = 300  # per solve (run and companion): the budget, not a verdict
 
 
@@ -121,7 +127,9 @@ def combinations(multibody):
 
 
 def read_grid(path):
-    """t, then per body (name -> (q [n,4], x [n,3] or None)); a single body's name is ""."""
+    """t, then per body (name -> (q [n,4] or None, x [n,3] or None)); a single body's name is "". A
+    particle (a point mass: NAME.x and NAME.vx, no NAME.qw) has no q; so has a marker, which only a
+    truth that names it is compared with (off_against)."""
     with open(path) as f:
         f.readline()  # units
         header = f.readline().strip().split(",")
@@ -132,8 +140,14 @@ def read_grid(path):
             xk = header.index(name + ".x") if name else None
             where[name] = (len(cols), None if xk is None else len(cols) + 4)
             cols += list(range(k, k + 4)) + ([] if xk is None else list(range(xk, xk + 3)))
+    for k, h in enumerate(header):
+        name = h[:-2]
+        if h.endswith(".x") and name + ".vx" in header and name + ".qw" not in header and name not in where:
+            where[name] = (None, len(cols))
+            cols += list(range(k, k + 3))
     data = np.loadtxt(path, delimiter=",", skiprows=2, ndmin=2, usecols=cols)
-    bodies = {name: (data[:, q:q + 4], None if x is None else data[:, x:x + 3]) for name, (q, x) in where.items()}
+    bodies = {name: (None if q is None else data[:, q:q + 4], None if x is None else data[:, x:x + 3])
+              for name, (q, x) in where.items()}
     return data[:, 0], bodies
 
 
@@ -159,9 +173,12 @@ def off_against(run_csv, truth, L):
         raise RuntimeError(f"{run_csv}: grid differs from the truth's")
     rot, pos = 0.0, float("nan")
     for name, (q, x) in bodies.items():
+        if name not in tb and q is None:
+            continue  # a marker, or a particle the truth leaves out
         qt, xt = tb[name]
-        rot = max(rot, float(np.max(angle(q[:n], qt[:n]))))
-        if x is not None:
+        if q is not None:
+            rot = max(rot, float(np.max(angle(q[:n], qt[:n]))))
+        if x is not None and xt is not None:
             p = float(np.max(np.linalg.norm(x[:n] - xt[:n], axis=1))) / L
             pos = p if math.isnan(pos) else max(pos, p)
     return rot, pos
@@ -243,6 +260,8 @@ def measured_run(binary, job):
         row["off"] = float("nan")
         return row
     if multibody:
+        if truth == "reference.csv":  # the run's own closed form
+            truth = read_grid(os.path.join(out, "reference.csv"))
         rot, pos = off_against(os.path.join(out, "trajectory.csv"), truth, ee["length_scale_m"])
         row["off_orientation"], row["off_position_rel"] = rot, pos
         row["off"] = max(rot, pos)
@@ -296,18 +315,25 @@ def main():
                 ref = CLOSED_FORM_MECHANISMS[name]
                 references[name] = 0.0
                 print(f"reference {name}: closed form", file=sys.stderr)
+            elif name in PARTICLE_MECHANISMS:
+                ref = "reference.csv"
+                references[name] = 0.0
+                print(f"reference {name}: rigidae's closed form (reference.csv of each run)", file=sys.stderr)
             else:
                 ref, check = make_reference(args.rigidae, scene, t_end,
                                             os.path.join(args.out, "references", name[:-5]))
                 acc = 0.0
                 for b in ref[1]:
-                    acc = max(acc, float(np.max(angle(ref[1][b][0], check[1][b][0]))))
+                    if ref[1][b][0] is not None:  # markers and particles carry no orientation
+                        acc = max(acc, float(np.max(angle(ref[1][b][0], check[1][b][0]))))
                 references[name] = acc
                 print(f"reference {name} (t_end {t_end}): quaternion/euler/ggl vs linear/euler/ggl at rtol "
                       f"{REF_RTOL:g}: {acc:.1e} rad", file=sys.stderr)
             chosen = preset.get("mechanism_combinations")
             for combo in combinations(True):
                 if chosen and "/".join(combo) not in chosen:
+                    continue
+                if name in PARTICLE_MECHANISMS and combo[:2] != ("quaternion", "euler"):
                     continue
                 for rtol in preset["mechanism_rtols"]:
                     out = os.path.join(args.out, "runs", name[:-5], "-".join(combo), f"{rtol:.0e}")
@@ -368,6 +394,9 @@ def main():
     for name, acc in references.items():
         if name in CLOSED_FORM_MECHANISMS:
             lines.append(f"Reference of {name}: its closed form ({CLOSED_FORM_MECHANISMS[name].__name__})")
+            continue
+        if name in PARTICLE_MECHANISMS:
+            lines.append(f"Reference of {name}: its closed form (reference.csv of each run; one run per scheme)")
             continue
         lines.append(f"Reference of {name}: accuracy {acc:.1e} rad (quaternion/euler/ggl against linear/euler/ggl at "
                      f"rtol {REF_RTOL:g})")
