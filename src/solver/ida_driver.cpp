@@ -145,7 +145,8 @@ struct IdaSession {
     // than the number of bodies (docs/benchmarks.md, "N-link chain").
     if (LS && nnz > 0) SUNLinSol_KLUSetOrdering(LS, 0);
     mem = IDACreate(ctx);
-    if (!y || !yp || !id || !atol || !dky || !unchecked || !A || !LS || !mem) throw SolverError("out of memory creating IDA");
+    if (!y || !yp || !id || !atol || !dky || !unchecked || !A || !LS || !mem)
+      throw SolverError("out of memory creating IDA");
   }
   ~IdaSession() {
     if (mem) IDAFree(&mem);

@@ -348,8 +348,9 @@ TEST_CASE("verdict: with the bridge across singular poses the companion keeps th
 // at 1e-12 collapses at the first pose, and so do the fallbacks after it:
 // quaternion/euler/ggl and linear/euler/index2 fail their Newton iterations
 // there and linear/euler/projection's steps fall below the floor. The
-// verdict is then "not estimated", naming each companion and why. (Before the linear/euler fallbacks the verdict was "not
-// estimated" after the first two; until IDA's Newton began to check the
+// verdict is then "not estimated", naming each companion and why. (Before
+// the linear/euler fallbacks the verdict was "not estimated" after the first
+// two; until IDA's Newton began to check the
 // multipliers' first corrections, src/solver/ida_newton_test.hpp,
 // linear/euler/projection finished off the branch and the verdict said
 // which one is right is not known.)
