@@ -138,17 +138,13 @@ void judge(ErrorEstimate& e, const Scene& scene) {
                                                             "suggests")});
   };
   warn("orientation_error", e.orientation.max, "rad, the largest over the output grid and the bodies");
-  // A mechanism's closed form (the simple pendulum) gives positions too.
-  if (closed && std::isfinite(e.position_rel_max))
+  // A mechanism's companion, or its closed form (the simple pendulum), gives positions too.
+  if (std::isfinite(e.position_rel_max))
     warn("position_error", e.position_rel_max,
          fmt::format("the largest centre-of-mass distance over the output grid and the bodies relative to the "
                      "mechanism's size L = {:.3g} m",
                      e.length_scale_m));
   if (e.source == EstimateSource::Companion && std::isfinite(e.position_rel_max)) {
-    warn("position_error", e.position_rel_max,
-         fmt::format("the largest centre-of-mass distance over the output grid and the bodies relative to the "
-                     "mechanism's size L = {:.3g} m",
-                     e.length_scale_m));
     const bool apart = e.position_rel_max > 1.0;
     e.branch_disagreement = apart || (after_singular_pose && !e.warnings.empty());
     // An arbiter that agreed with the companion is said below, for every scene.

@@ -51,6 +51,10 @@ void MultibodyInvariantMonitor::on_output(double t, const Eigen::VectorXd& y) {
     h0_ = T0 + problem_.potential_energy(y.data());
     if (has_work_)
       work_.follow(t, y.data(), y.size(), problem_.size(), [&] { return problem_.work_rate(t, y.data()); });
+    // A DAE run's W is a quadrature of the drivers' efforts, its multipliers;
+    // an ODE run integrates W with the state (and solves the multipliers from it).
+    work_from_efforts_ = !scene_.multibody->drivers.empty() &&
+                         !multibody::WorkIntegral::carries_work(y.size(), problem_.size());
     // The springs' energy at the start can turn into motion as well (a wound
     // torsion spring released from rest has T0 = 0).
     e_scale_ = T0 + problem_.elastic_energy(y.data()) + scene_.multibody->gravity_W.norm() * size_ * mass_;
@@ -85,7 +89,7 @@ std::vector<AccuracyWarning> MultibodyInvariantMonitor::warnings() const {
   std::string energy =
       "|H - H0 - W| relative to the kinetic energy plus m |g| L over the mechanism's size L "
       "(W: the work of drivers and loads)";
-  if (!scene_.multibody->drivers.empty() && scene_.solver.integrator == "ida")
+  if (work_from_efforts_)
     energy += "; W is the drivers' efforts, multipliers that IDA's error test leaves out: the driving "
               "torques and forces may be off rather than the motion";
   return drift_warnings(d_, steps_,

@@ -106,7 +106,8 @@ const columns::Table& MechanismColumns::table() const { return kTable; }
 
 double MechanismColumns::energy_error(double t, const Eigen::VectorXd& y, double H) {
   if (!have_H0_) H0_ = H, have_H0_ = true;
-  if (has_work_) work_.follow(t, y.data(), y.size(), problem_.size(), [&] { return problem_.work_rate(t, y.data()); });
+  if (has_work_)
+    work_.follow(t, y.data(), y.size(), problem_.size(), [&] { return problem_.work_rate(t, y.data()); });
   return (H - H0_ - work_.value()) / std::max(std::abs(H0_), 1.0);
 }
 
@@ -130,12 +131,11 @@ void MechanismColumns::observe(columns::File f, double t, const Eigen::VectorXd&
   } else {
     o.energy = problem_.kinetic_energy(y.data()) + problem_.potential_energy(y.data());
   }
-  const bool carries_work = y.size() > problem_.size();
   if (!have_H0_)
     o.energy_error = energy_error(t, y, o.energy);
   else
-    o.energy_error = (o.energy - H0_ - (carries_work ? y[problem_.size()] : work_.value())) /
-                     std::max(std::abs(H0_), 1.0);
+    o.energy_error =
+        (o.energy - H0_ - work_.value_at(y.data(), y.size(), problem_.size())) / std::max(std::abs(H0_), 1.0);
 }
 
 void MechanismColumns::append_event(fmt::memory_buffer& b, const EventNote& n) const {

@@ -73,6 +73,7 @@ class MultibodyInvariantMonitor final : public RunMonitor {
   // The work W of the drivers and of the loads without a potential, and the
   // last values of their power (t, P), oldest first, for its quadrature.
   bool has_work_ = false;
+  bool work_from_efforts_ = false;  // W sums the drivers' multipliers (a DAE run): see warnings()
   multibody::WorkIntegral work_;
   InvariantDrifts d_;
   long steps_ = 0;

@@ -23,11 +23,16 @@ class WorkIntegral {
   // the state: multibody_ode.hpp), gives W; else P = power() is added.
   template <class Power>
   void follow(double t, const double* y, long size, long n, Power&& power) {
-    if (size > n)
+    if (carries_work(size, n))
       work_ = y[n];
     else
       add(t, power());
   }
+  // Whether such an observation carries W (entry n).
+  static bool carries_work(long size, long n) { return size > n; }
+  // W at an observation without adding to the quadrature: its own W when it
+  // carries one, else the integral up to the last accepted step.
+  double value_at(const double* y, long size, long n) const { return carries_work(size, n) ? y[n] : work_; }
   double value() const { return work_; }
   void reset() { work_ = 0.0, count_ = 0; }
 
